@@ -1,0 +1,270 @@
+-- | PLC operands (catalogue §7.3, Tables 2-3 and 4-8): which operands the
+-- language knows, which types may be mapped onto them, the controller's
+-- configuration (which operands are declared) and its memory.
+module Stref.Operands
+  ( SimpleKind (..)
+  , TableKind (..)
+  , Operand (..)
+  , Cell (..)
+  , resolveOperand
+  , OperandProblem (..)
+  , describeOperandProblem
+  , parseOperand
+  , renderOperand
+  , operandCell
+  , compatibleType
+  , operandKindCode
+  , simpleLetter
+  , tableLetters
+  -- * The controller's configuration
+  , PlcConfig (..)
+  , defaultPlcConfig
+  , cellDeclared
+  -- * Memory
+  , Memory
+  , emptyMemory
+  , readCell
+  , writeCell
+  , readOperand
+  , writeOperand
+  , cellWidth
+  , cellCells
+  ) where
+
+import Data.Bits (clearBit, setBit, testBit, (.&.))
+import Data.Char (isDigit, isSpace, toUpper)
+import qualified Data.Map.Strict as M
+import Data.Text (Text)
+import qualified Data.Text as T
+import Data.Word (Word32)
+import Stref.Syntax (OperandRef (..), OperandSub (..))
+import Stref.Types
+import Stref.Values
+
+-- | Simple operands: %E, %S, %A are octets, %M 16-bit memories, %I 32-bit
+-- integers, %F binary32 reals (Table 2-1, MT-MAP-17).
+data SimpleKind = KE | KS | KA | KM | KI | KF
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Table operands: %TM (16-bit), %TI (32-bit), %TF (real).
+data TableKind = TM | TI | TF
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | An operand that ST may map a variable onto (MT-MAP-2, MT-MAP-5, MT-MAP-6).
+data Operand
+  = OpSimple SimpleKind Int -- ^ @%M0010@
+  | OpBit SimpleKind Int Int -- ^ @%M0006.6@: %E, %S, %A (bits 0..7), %M (0..15)
+  | OpTablePos TableKind Int Int -- ^ @%TM010[15]@
+  deriving (Eq, Ord, Show)
+
+-- | A unit of controller memory: one simple operand or one table position.
+data Cell
+  = CellSimple SimpleKind Int
+  | CellTable TableKind Int Int
+  deriving (Eq, Ord, Show)
+
+simpleLetter :: SimpleKind -> Text
+simpleLetter = \case
+  KE -> "E"
+  KS -> "S"
+  KA -> "A"
+  KM -> "M"
+  KI -> "I"
+  KF -> "F"
+
+tableLetters :: TableKind -> Text
+tableLetters = \case
+  TM -> "TM"
+  TI -> "TI"
+  TF -> "TF"
+
+data OperandProblem
+  = UnknownOperandKind Text -- ^ %D, %TD, %X ... (MT-MAP-2: not usable from ST)
+  | BitNotAllowed Text -- ^ a bit of %I, %F or a table
+  | BitOutOfRange Text Integer Int -- ^ @%M0001.16@: letters, bit, width
+  | TablePositionRequired Text -- ^ @%TM0010@ without @[n]@ after AT (MT-MAP-9)
+  | PositionNotAllowed Text -- ^ @%M0010[3]@
+  | AddressTooLarge Text Integer
+  deriving (Eq, Show)
+
+describeOperandProblem :: OperandProblem -> Text
+describeOperandProblem = \case
+  UnknownOperandKind l -> "%" <> l <> " is not an operand ST can use (only %E, %S, %A, %M, %I, %F, %TM, %TI, %TF)"
+  BitNotAllowed l -> "a bit of %" <> l <> " cannot be mapped (bits exist only in %E, %S, %A and %M)"
+  BitOutOfRange l b w -> "bit " <> tshow b <> " does not exist in %" <> l <> " (bits 0.." <> tshow (w - 1) <> ")"
+  TablePositionRequired l -> "%" <> l <> " needs the table position, e.g. %" <> l <> "0010[0]"
+  PositionNotAllowed l -> "%" <> l <> " is not a table; it takes no [position]"
+  AddressTooLarge l a -> "address " <> tshow a <> " of %" <> l <> " is too large"
+  where
+    tshow :: Show x => x -> Text
+    tshow = T.pack . show
+
+-- | Validate an address as written (MT-MAP-2, MT-MAP-6; MT-VERR-39).
+resolveOperand :: OperandRef -> Either OperandProblem Operand
+resolveOperand (OperandRef letters addr sub)
+  | addr > 65535 = Left (AddressTooLarge letters addr)
+  | Just k <- lookup letters simpleKinds = case sub of
+      NoSub -> Right (OpSimple k a)
+      BitOf b
+        | k `elem` [KI, KF] -> Left (BitNotAllowed letters)
+        | b < 0 || b >= fromIntegral (bitWidth k) -> Left (BitOutOfRange letters b (bitWidth k))
+        | otherwise -> Right (OpBit k a (fromInteger b))
+      Position _ -> Left (PositionNotAllowed letters)
+  | Just k <- lookup letters tableKinds = case sub of
+      Position p | p <= 65535 -> Right (OpTablePos k a (fromInteger p))
+      Position p -> Left (AddressTooLarge letters p)
+      BitOf _ -> Left (BitNotAllowed letters)
+      NoSub -> Left (TablePositionRequired letters)
+  | otherwise = Left (UnknownOperandKind letters)
+  where
+    a = fromInteger addr
+    simpleKinds = [(simpleLetter k, k) | k <- [minBound .. maxBound]]
+    tableKinds = [(tableLetters k, k) | k <- [minBound .. maxBound]]
+    bitWidth k = if k == KM then 16 else 8 :: Int
+
+-- | Read an operand from its text, as the corpus and the CLI write it:
+-- @%M0010@, @%M10@, @%M0013.0@, @%TM0010[5]@, @%F0002@.
+parseOperand :: Text -> Either Text Operand
+parseOperand t0 = do
+  let t = T.filter (not . isSpace) t0
+  rest <- maybe (Left ("operand '" <> t0 <> "' must start with %")) Right (T.stripPrefix "%" t)
+  let (letters, r1) = T.span (`elem` ['A' .. 'Z']) (T.map toUpper rest)
+      (digits, r2) = T.span isDigit r1
+  if T.null letters || T.null digits
+    then Left ("'" <> t0 <> "' is not an operand address")
+    else do
+      sub <- case T.unpack r2 of
+        "" -> Right NoSub
+        '.' : ds | not (null ds), all isDigit ds -> Right (BitOf (read ds))
+        '[' : ds | not (null ds), last ds == ']', all isDigit (init ds), not (null (init ds)) -> Right (Position (read (init ds)))
+        _ -> Left ("'" <> t0 <> "' is not an operand address")
+      either (Left . describeOperandProblem) Right
+        (resolveOperand (OperandRef letters (read (T.unpack digits)) sub))
+
+-- | The canonical spelling: four-digit addresses, as the manual writes them.
+renderOperand :: Operand -> Text
+renderOperand = \case
+  OpSimple k a -> "%" <> simpleLetter k <> pad a
+  OpBit k a b -> "%" <> simpleLetter k <> pad a <> "." <> T.pack (show b)
+  OpTablePos k a p -> "%" <> tableLetters k <> pad a <> "[" <> T.pack (show p) <> "]"
+  where
+    pad n = let s = show n in T.pack (replicate (4 - length s) '0' ++ s)
+
+operandCell :: Operand -> Cell
+operandCell = \case
+  OpSimple k a -> CellSimple k a
+  OpBit k a _ -> CellSimple k a
+  OpTablePos k a p -> CellTable k a p
+
+-- | Table 4-8 (MT-MAP-5): the types a variable mapped onto the operand may have.
+compatibleType :: Operand -> BasicType -> Bool
+compatibleType op t = case op of
+  OpBit {} -> t == BOOL
+  OpSimple k _ -> t `elem` simpleTypes k
+  OpTablePos k _ _ -> t `elem` tableTypes k
+  where
+    simpleTypes = \case
+      KE -> [USINT, BYTE]
+      KS -> [USINT, BYTE]
+      KA -> [USINT, BYTE]
+      KM -> [INT, WORD]
+      KI -> [DINT, DWORD]
+      KF -> [REAL]
+    tableTypes = \case
+      TM -> [INT, WORD]
+      TI -> [DINT, DWORD]
+      TF -> [REAL]
+
+-- | Comp 1 of runtime errors 2000-2002 (Table 5-3): 0 %M, 8 %E/%S, 9 %A,
+-- 4 %F, 1 %I; tables use the code of their element kind.
+operandKindCode :: Cell -> Int
+operandKindCode = \case
+  CellSimple k _ -> case k of
+    KM -> 0
+    KE -> 8
+    KS -> 8
+    KA -> 9
+    KF -> 4
+    KI -> 1
+  CellTable k _ _ -> case k of
+    TM -> 0
+    TF -> 4
+    TI -> 1
+
+-- | The configuration module: how many of each simple operand exist, which
+-- tables exist with how many positions, and where the five diagnostic
+-- operands start (MT-EXEC-1, MT-DIAG-2).
+data PlcConfig = PlcConfig
+  { plcSimple :: M.Map SimpleKind Int
+  , plcTables :: M.Map (TableKind, Int) Int
+  , plcDiagnostics :: Int -- ^ the first %M of the diagnostic band
+  }
+  deriving (Eq, Show)
+
+-- | The project's default layout (documented in conformance/README.md):
+-- %M0000..%M1999, %E and %S 0..15, %A 0..63, %I and %F 0..99, tables
+-- %TM0010 (200 positions), %TM0030 (100), %TI0010 (50), %TF0010 (50), and the
+-- diagnostic band at %M1990..%M1994.
+defaultPlcConfig :: PlcConfig
+defaultPlcConfig =
+  PlcConfig
+    { plcSimple = M.fromList [(KM, 2000), (KE, 16), (KS, 16), (KA, 64), (KI, 100), (KF, 100)]
+    , plcTables = M.fromList [((TM, 10), 200), ((TM, 30), 100), ((TI, 10), 50), ((TF, 10), 50)]
+    , plcDiagnostics = 1990
+    }
+
+cellDeclared :: PlcConfig -> Cell -> Bool
+cellDeclared cfg = \case
+  CellSimple k a -> a >= 0 && a < M.findWithDefault 0 k (plcSimple cfg)
+  CellTable k a p -> maybe False (\n -> p >= 0 && p < n) (M.lookup (k, a) (plcTables cfg))
+
+-- | Every cell of a configuration (for reports of the whole memory).
+cellCells :: PlcConfig -> [Cell]
+cellCells cfg =
+  [CellSimple k a | (k, n) <- M.toList (plcSimple cfg), a <- [0 .. n - 1]]
+    ++ [CellTable k a p | ((k, a), n) <- M.toList (plcTables cfg), p <- [0 .. n - 1]]
+
+-- | Width of a cell in bits.
+cellWidth :: Cell -> Int
+cellWidth = \case
+  CellSimple k _ -> case k of
+    KM -> 16
+    KI -> 32
+    KF -> 32
+    _ -> 8
+  CellTable k _ _ -> if k == TM then 16 else 32
+
+-- | Controller memory: each cell holds the bit pattern of its width; a cell
+-- never written reads as 0 (every declared operand starts at 0).
+newtype Memory = Memory (M.Map Cell Word32)
+  deriving (Eq, Show)
+
+emptyMemory :: Memory
+emptyMemory = Memory M.empty
+
+readCell :: Memory -> Cell -> Word32
+readCell (Memory m) c = M.findWithDefault 0 c m
+
+writeCell :: Cell -> Word32 -> Memory -> Memory
+writeCell c w (Memory m) = Memory (M.insert c (w .&. mask) m)
+  where
+    mask = if cellWidth c >= 32 then maxBound else (2 ^ cellWidth c) - 1
+
+-- | Read a variable of the given type mapped onto the operand.
+readOperand :: Memory -> Operand -> BasicType -> Value
+readOperand mem op t = case op of
+  OpBit _ _ b -> VBool (testBit (readCell mem (operandCell op)) b)
+  _ ->
+    let w = readCell mem (operandCell op)
+     in if t == REAL then VReal (realFromBits w) else integerToValue t (fromIntegral w)
+
+-- | Write a value through an operand: a bit changes only its bit.
+writeOperand :: Operand -> Value -> Memory -> Memory
+writeOperand op v mem = case (op, v) of
+  (OpBit _ _ b, VBool x) ->
+    let c = operandCell op
+        w = readCell mem c
+     in writeCell c (if x then setBit w b else clearBit w b) mem
+  (_, VReal r) -> writeCell (operandCell op) (realBits r) mem
+  _ -> writeCell (operandCell op) (maybe 0 fromInteger (valueToInteger v)) mem
+

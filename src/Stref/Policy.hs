@@ -1,0 +1,272 @@
+-- | Behaviour policies and dialect presets.
+--
+-- Every point where vendors differ, or where a manual is silent, is a field of
+-- 'Policies' with enumerated alternatives; a dialect is a value of that record
+-- ('presets'). The meaning functions take the record; nothing else in the
+-- code asks which dialect it is running.
+module Stref.Policy
+  ( Policies (..)
+  , Overflow (..)
+  , ArithWidth (..)
+  , DivZero (..)
+  , RealDivZero (..)
+  , RealOverflow (..)
+  , ModZero (..)
+  , ModSign (..)
+  , RealToInt (..)
+  , NarrowInt (..)
+  , ImplicitConversions (..)
+  , NameResolution (..)
+  , ForBounds (..)
+  , ForAtTypeMax (..)
+  , ShortCircuit (..)
+  , Lifetime (..)
+  , IndexOutOfRange (..)
+  , IdentifierLength (..)
+  , NestedComments (..)
+  , ElsifKeyword (..)
+  , mastertoolXE
+  , presets
+  , lookupPreset
+  , PolicyInfo (..)
+  , policyTable
+  , lookupPolicy
+  , setPolicy
+  , policyAssignments
+  , alternativesOf
+  ) where
+
+import Data.List (find)
+import Data.Text (Text)
+import qualified Data.Text as T
+import Text.Read (readMaybe)
+
+-- | Integer result of + - * unary - EXPT out of range.
+data Overflow = Saturate | Wrap | Trap
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Width of intermediate integer arithmetic.
+data ArithWidth = OperandType | Promote32
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Integer @/@ by zero.
+data DivZero = DivZeroError | DivZeroZero | DivZeroTrap
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | REAL @/@ by 0.0.
+data RealDivZero = RealDivZeroError | RealDivZeroIeee
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | REAL result beyond the binary32 range.
+data RealOverflow = RealOverflowSaturate | RealOverflowIeee
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | @x MOD 0@.
+data ModZero = ModZeroZero | ModZeroError
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Sign of MOD (and rounding of @/@) with negative operands.
+data ModSign = ModSignDividend | ModSignEuclidean
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | REAL to integer conversion.
+data RealToInt = TruncateSaturate | RoundEvenSaturate | RoundEvenWrap
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Integer to narrower integer conversion.
+data NarrowInt = NarrowWrap | NarrowSaturate
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Which conversions the checker inserts on its own.
+data ImplicitConversions = ImplicitMastertool | ImplicitIecWidening | ImplicitCodesys
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | A local declared with a global's name.
+data NameResolution = GlobalWins | LocalWins
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Are a FOR's TO and BY evaluated once or at every test?
+data ForBounds = ForOnce | ForEveryIteration
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | A FOR whose end is the type's maximum.
+data ForAtTypeMax = StopAtEnd | FollowOverflowPolicy
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Do AND/OR on BOOL evaluate their right operand when the left decides?
+data ShortCircuit = Eager | ShortCircuit
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | State of unmapped variables between module calls.
+data Lifetime = PerCall | Retained
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | An array index outside the bounds.
+data IndexOutOfRange = IndexError | IndexClamp | IndexTrap
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Significant characters of an identifier.
+data IdentifierLength = Significant Int | Unlimited
+  deriving (Eq, Ord, Show)
+
+data NestedComments = NoNesting | Nesting
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+data ElsifKeyword = ElsifOnly | ElsifAndElseif
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+data Policies = Policies
+  { pOverflow :: !Overflow
+  , pArithWidth :: !ArithWidth
+  , pDivZero :: !DivZero
+  , pRealDivZero :: !RealDivZero
+  , pRealOverflow :: !RealOverflow
+  , pModZero :: !ModZero
+  , pModSign :: !ModSign
+  , pRealToInt :: !RealToInt
+  , pNarrowInt :: !NarrowInt
+  , pImplicitConversions :: !ImplicitConversions
+  , pNameResolution :: !NameResolution
+  , pForBounds :: !ForBounds
+  , pForAtTypeMax :: !ForAtTypeMax
+  , pShortCircuit :: !ShortCircuit
+  , pLifetime :: !Lifetime
+  , pIndexOutOfRange :: !IndexOutOfRange
+  , pIdentifierLength :: !IdentifierLength
+  , pNestedComments :: !NestedComments
+  , pElsifKeyword :: !ElsifKeyword
+  , pErrorLineBeforeStart :: !Int
+  -- ^ decision A2: the line written for an error found before the first
+  -- statement (EN Rev. C: 0; the earlier PT revision: -1)
+  , pStepBudget :: !Int
+  -- ^ MT-EXEC-7: the execution-time limit, as a deterministic count of
+  -- executed statements and loop tests; exceeding it is runtime error 2030
+  }
+  deriving (Eq, Show)
+
+-- | The MasterTool XE preset (catalogue §15 decisions; policies.md column).
+mastertoolXE :: Policies
+mastertoolXE =
+  Policies
+    { pOverflow = Saturate -- MT-OP-6, MT-OP-7
+    , pArithWidth = OperandType -- MT-OP-4
+    , pDivZero = DivZeroError -- MT-OP-9
+    , pRealDivZero = RealDivZeroError -- A6
+    , pRealOverflow = RealOverflowSaturate -- A6
+    , pModZero = ModZeroZero -- MT-OP-8
+    , pModSign = ModSignDividend -- A7
+    , pRealToInt = TruncateSaturate -- MT-CONV-9, C52, C53
+    , pNarrowInt = NarrowWrap -- C37-C47
+    , pImplicitConversions = ImplicitMastertool -- MT-CONV-6
+    , pNameResolution = GlobalWins -- MT-SCOPE-5
+    , pForBounds = ForOnce -- MT-STMT-19, A14
+    , pForAtTypeMax = StopAtEnd -- A13
+    , pShortCircuit = Eager -- A17
+    , pLifetime = PerCall -- MT-MAP-1, MT-SCOPE-7
+    , pIndexOutOfRange = IndexError -- MT-ARR-8
+    , pIdentifierLength = Significant 32 -- MT-LEX-4
+    , pNestedComments = NoNesting -- MT-LEX-8
+    , pElsifKeyword = ElsifAndElseif -- A1
+    , pErrorLineBeforeStart = 0 -- A2
+    , pStepBudget = 50000000 -- MT-EXEC-7: far above any terminating program of realistic size
+    }
+
+-- | Named presets. Only MasterTool XE is a complete dialect today; the next
+-- dialects (tecomat, nexto) become entries here, not forks of the code.
+presets :: [(Text, Policies)]
+presets = [("mastertool-xe", mastertoolXE)]
+
+lookupPreset :: Text -> Maybe Policies
+lookupPreset n = lookup n presets
+
+-- | One policy: its name on the command line and in the corpus (@expect-if@),
+-- its alternatives, and how to read and set it in the record.
+data PolicyInfo = PolicyInfo
+  { piName :: Text
+  , piAlternatives :: [Text] -- ^ empty for numeric policies
+  , piGet :: Policies -> Text
+  , piSet :: Text -> Policies -> Maybe Policies
+  }
+
+-- | An enumerated policy from its names, in the order of its constructors.
+enumPolicy :: (Eq e, Enum e, Bounded e) => Text -> [Text] -> (Policies -> e) -> (e -> Policies -> Policies) -> PolicyInfo
+enumPolicy name names get set =
+  PolicyInfo
+    { piName = name
+    , piAlternatives = names
+    , piGet = \p -> maybe "?" snd (find ((== get p) . fst) table)
+    , piSet = \v p -> (`set` p) . fst <$> find ((== v) . snd) table
+    }
+  where
+    table = zip [minBound .. maxBound] names
+
+numPolicy :: Text -> (Policies -> Int) -> (Int -> Policies -> Policies) -> PolicyInfo
+numPolicy name get set =
+  PolicyInfo name [] (T.pack . show . get) (\v p -> (`set` p) <$> readMaybe (T.unpack v))
+
+policyTable :: [PolicyInfo]
+policyTable =
+  [ enumPolicy "overflow" ["saturate", "wrap", "trap"] pOverflow (\v p -> p {pOverflow = v})
+  , enumPolicy "arith-width" ["operand-type", "promote-32"] pArithWidth (\v p -> p {pArithWidth = v})
+  , enumPolicy "div-zero" ["error", "zero", "trap"] pDivZero (\v p -> p {pDivZero = v})
+  , enumPolicy "real-div-zero" ["error", "ieee"] pRealDivZero (\v p -> p {pRealDivZero = v})
+  , enumPolicy "real-overflow" ["saturate", "ieee"] pRealOverflow (\v p -> p {pRealOverflow = v})
+  , enumPolicy "mod-zero" ["zero", "error"] pModZero (\v p -> p {pModZero = v})
+  , enumPolicy "mod-sign" ["dividend", "euclidean"] pModSign (\v p -> p {pModSign = v})
+  , enumPolicy "real-to-int" ["truncate-saturate", "round-even-saturate", "round-even-wrap"] pRealToInt (\v p -> p {pRealToInt = v})
+  , enumPolicy "narrow-int" ["wrap", "saturate"] pNarrowInt (\v p -> p {pNarrowInt = v})
+  , enumPolicy "implicit-conversions" ["mastertool", "iec-widening", "codesys"] pImplicitConversions (\v p -> p {pImplicitConversions = v})
+  , enumPolicy "name-resolution" ["global-wins", "local-wins"] pNameResolution (\v p -> p {pNameResolution = v})
+  , enumPolicy "for-bounds" ["once", "every-iteration"] pForBounds (\v p -> p {pForBounds = v})
+  , enumPolicy "for-at-type-max" ["stop-at-end", "follow-overflow-policy"] pForAtTypeMax (\v p -> p {pForAtTypeMax = v})
+  , enumPolicy "short-circuit" ["eager", "short-circuit"] pShortCircuit (\v p -> p {pShortCircuit = v})
+  , enumPolicy "lifetime" ["per-call", "retained"] pLifetime (\v p -> p {pLifetime = v})
+  , enumPolicy "index-out-of-range" ["error", "clamp", "trap"] pIndexOutOfRange (\v p -> p {pIndexOutOfRange = v})
+  , PolicyInfo
+      { piName = "identifier-length"
+      , piAlternatives = []
+      , piGet = \p -> case pIdentifierLength p of
+          Unlimited -> "unlimited"
+          Significant n -> T.pack (show n)
+      , piSet = \v p -> case v of
+          "unlimited" -> Just p {pIdentifierLength = Unlimited}
+          _ -> case readMaybe (T.unpack v) of
+            Just n | n > 0 -> Just p {pIdentifierLength = Significant n}
+            _ -> Nothing
+      }
+  , enumPolicy "nested-comments" ["no", "yes"] pNestedComments (\v p -> p {pNestedComments = v})
+  , enumPolicy "elsif-keyword" ["ELSIF", "ELSIF+ELSEIF"] pElsifKeyword (\v p -> p {pElsifKeyword = v})
+  , numPolicy "error-line-before-start" pErrorLineBeforeStart (\v p -> p {pErrorLineBeforeStart = v})
+  , numPolicy "step-budget" pStepBudget (\v p -> p {pStepBudget = max 1 v})
+  ]
+
+lookupPolicy :: Text -> Maybe PolicyInfo
+lookupPolicy n = find ((== n) . piName) policyTable
+
+-- | @setPolicy "overflow" "wrap" p@; a clear message for an unknown name or
+-- alternative.
+setPolicy :: Text -> Text -> Policies -> Either Text Policies
+setPolicy name value p = case lookupPolicy name of
+  Nothing ->
+    Left ("unknown policy '" <> name <> "'; the policies are: " <> T.intercalate ", " (map piName policyTable))
+  Just info -> case piSet info value p of
+    Just p' -> Right p'
+    Nothing ->
+      Left
+        ( "policy '" <> name <> "' has no alternative '" <> value <> "'"
+            <> if null (piAlternatives info)
+              then "; it takes a number"
+              else "; the alternatives are: " <> T.intercalate ", " (piAlternatives info)
+        )
+
+-- | Every policy with its current choice, in table order.
+policyAssignments :: Policies -> [(Text, Text)]
+policyAssignments p = [(piName i, piGet i p) | i <- policyTable]
+
+-- | The records obtained by setting one policy to each of its alternatives.
+alternativesOf :: Text -> Policies -> Either Text [(Text, Policies)]
+alternativesOf name p = case lookupPolicy name of
+  Nothing -> Left ("unknown policy '" <> name <> "'")
+  Just info
+    | null (piAlternatives info) -> Left ("policy '" <> name <> "' is numeric; it has no list of alternatives")
+    | otherwise -> traverse (\a -> (a,) <$> setPolicy name a p) (piAlternatives info)
