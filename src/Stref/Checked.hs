@@ -4,6 +4,7 @@
 -- every operation that can raise a runtime error carries its source line.
 module Stref.Checked
   ( CModule (..)
+  , ModuleKind (..)
   , CProgram (..)
   , CFunction (..)
   , FunId
@@ -28,6 +29,11 @@ import Data.Text (Text)
 import Stref.Operands (Operand)
 import Stref.Types
 import Stref.Values (Value, valueType)
+
+-- | MT-POU-2: a procedure module (called by CHP, no parameters) or a
+-- function module (called by CHF, with parameters).
+data ModuleKind = ProcedureModule | FunctionModule
+  deriving (Eq, Ord, Show, Enum, Bounded)
 
 -- | A 1-based line of the module source (decision A24).
 type Line = Int

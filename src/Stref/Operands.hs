@@ -16,6 +16,10 @@ module Stref.Operands
   , operandKindCode
   , simpleLetter
   , tableLetters
+  -- * CHF parameters
+  , ConstKind (..)
+  , ChfArg (..)
+  , parseChfArg
   -- * The controller's configuration
   , PlcConfig (..)
   , defaultPlcConfig
@@ -190,6 +194,40 @@ operandKindCode = \case
     TM -> 0
     TF -> 4
     TI -> 1
+
+-- | Constant operands, usable only as CHF input parameters (MT-PARAM-7).
+data ConstKind = KMConst | KIConst | KFConst
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | An argument of the CHF instruction that calls an F module (MT-PARAM-3..7):
+-- an operand (for an array: the first of a block of simple operands, or a
+-- table position), a whole table, or a constant @%KM+5@, @%KI-7@, @%KF+2.5@.
+data ChfArg
+  = ChfOperand Operand
+  | ChfTable TableKind Int
+  | ChfConstant ConstKind Rational
+  deriving (Eq, Show)
+
+-- | Read a CHF argument as the corpus writes it.
+parseChfArg :: Text -> Either Text ChfArg
+parseChfArg t0 = case T.unpack (T.toUpper (T.filter (not . isSpace) t0)) of
+  '%' : 'K' : k : rest
+    | Just kind <- lookup k [('M', KMConst), ('I', KIConst), ('F', KFConst)] ->
+        maybe (Left ("'" <> t0 <> "' is not a constant operand (e.g. %KM+5, %KF-2.5)")) (Right . ChfConstant kind) (signedNumber rest)
+  '%' : 'T' : k : ds
+    | Just kind <- lookup k [('M', TM), ('I', TI), ('F', TF)], not (null ds), all isDigit ds ->
+        Right (ChfTable kind (read ds))
+  _ -> ChfOperand <$> parseOperand t0
+  where
+    signedNumber s = case s of
+      '+' : r -> number r
+      '-' : r -> negate <$> number r
+      _ -> Nothing
+    number r = case break (== '.') r of
+      (i, "") | not (null i), all isDigit i -> Just (fromInteger (read i))
+      (i, '.' : f) | not (null i), not (null f), all isDigit (i ++ f) ->
+        Just (fromInteger (read (i ++ f)) / (10 ^ length f))
+      _ -> Nothing
 
 -- | The configuration module: how many of each simple operand exist, which
 -- tables exist with how many positions, and where the five diagnostic
