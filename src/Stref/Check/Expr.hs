@@ -147,7 +147,7 @@ readVariable pos name =
   resolveName name >>= \case
     RVar vs
       | not (canRead (vsRole vs)) -> do
-          report "read-not-allowed" pos (identText name <> " is a " <> roleWord (vsRole vs) <> " and cannot be read") -- MT-VERR-25
+          report "read-not-allowed" pos (identText name <> " is " <> roleWord (vsRole vs) <> " and cannot be read") -- MT-VERR-25
           pure Nothing
       | Array {} <- varType (vsVar vs) -> do
           report "whole-array-use" pos ("the array " <> identText name <> " can only be used element by element, e.g. " <> identText name <> "[i]") -- A22
@@ -170,7 +170,7 @@ readIndexed pos name idx = do
   case target of
     Just vs
       | not (canRead (vsRole vs)) -> do
-          report "read-not-allowed" pos (identText name <> " is a " <> roleWord (vsRole vs) <> " and cannot be read") -- MT-VERR-25
+          report "read-not-allowed" pos (identText name <> " is " <> roleWord (vsRole vs) <> " and cannot be read") -- MT-VERR-25
           pure Nothing
       | otherwise -> pure (CReadIndex (line pos) (vsVar vs) <$> i)
     Nothing -> pure Nothing
