@@ -46,7 +46,7 @@ runP :: Policies -> FilePath -> Parser a -> Text -> Either VerificationError a
 runP p file parser src =
   case runReader (runParserT' parser initial) (Env p 0) of
     (_, Right x) -> Right x
-    (_, Left bundle) -> Left (toVerificationError src (NE.head (bundleErrors bundle)))
+    (_, Left bundle) -> Left (toVerificationError p src (NE.head (bundleErrors bundle)))
   where
     initial =
       State
@@ -397,11 +397,11 @@ arguments = do
 ------------------------------------------------------------------------------
 -- Error messages
 
-toVerificationError :: Text -> ParseError Text Issue -> VerificationError
-toVerificationError src = \case
+toVerificationError :: Policies -> Text -> ParseError Text Issue -> VerificationError
+toVerificationError policies src = \case
   FancyError off xs ->
     case [i | ErrorCustom i <- Set.toList xs] of
-      (Issue kind msg : _) -> VerificationError kind (posAt src off) msg
+      (Issue kind msg at : _) -> VerificationError kind (posAt src at) msg
       [] ->
         VerificationError "unexpected" (posAt src off) $
           T.intercalate "; " [T.pack m | ErrorFail m <- Set.toList xs]
@@ -409,8 +409,11 @@ toVerificationError src = \case
     let found = describeText src off
         labels = [renderItem i | i <- Set.toList expected]
         hasOperator = "an operator" `elem` labels
-        startsOperand = case T.uncons (T.drop off src) of
-          Just (c, _) -> isWordStart c || isDigit c || c == '('
+        rest = T.drop off src
+        startsOperand = case T.uncons rest of
+          Just (c, _)
+            | isWordStart c -> classifyWord policies (T.toUpper (T.takeWhile isWordChar rest)) /= WKeyword
+            | otherwise -> isDigit c || c == '('
           Nothing -> False
      in if hasOperator && startsOperand
           then
