@@ -8,7 +8,6 @@ import qualified Data.ByteString as BS
 import qualified Data.Text.Encoding as TE
 import qualified Data.Text.Encoding.Error as TE
 import Stref.Policy
-import Stref.Syntax
 import Stref.Syntax.Parser
 import Stref.Syntax.Pretty
 import System.Directory

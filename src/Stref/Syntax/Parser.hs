@@ -210,6 +210,7 @@ block = nested (many statement)
 assignOrCall :: Parser (Stmt Pos)
 assignOrCall = do
   pos <- getPos
+  off <- getOffset
   (npos, n) <- name CallName
   s <-
     choice
@@ -221,9 +222,17 @@ assignOrCall = do
           Assign pos (LIndex npos n i) <$> expr
       , symbol ":=" *> (Assign pos (LVar npos n) <$> expr)
       , CallStmt pos n <$> arguments
+      , strictElseif off n
       ]
   semi
   pure s
+  where
+    -- A1: under elsif-keyword=ELSIF the word ELSEIF is an ordinary name;
+    -- say what happened instead of complaining about the next token
+    strictElseif off n
+      | T.toUpper (identText n) == "ELSEIF" =
+          failAt off "expected-token" "expected ELSIF instead of ELSEIF (the elsif-keyword policy is ELSIF; ELSIF+ELSEIF accepts both)"
+      | otherwise = empty
 
 ifStmt :: Parser (Stmt Pos)
 ifStmt = do
