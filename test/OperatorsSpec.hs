@@ -414,6 +414,15 @@ finiteFloat =
     , elements [0, 1, -1, 0.1, 16777216, 3.0e38, -3.0e38, 1.0e-38, 1.0e-45]
     ]
 
+-- | Finite binary32 values of large magnitude (biased exponent 190..254), so
+-- that products and sums overflow often.
+bigFloat :: Gen Float
+bigFloat = do
+  sign <- elements [0, 0x80000000]
+  ex <- choose (190, 254)
+  mant <- choose (0, 0x7FFFFF)
+  pure (realFromBits (sign + ex * 0x800000 + mant))
+
 laws :: Spec
 laws = describe "Operators: laws" $ do
   it "saturate: result = exact clamped; flag TRUE iff exact out of range" $
@@ -460,6 +469,22 @@ laws = describe "Operators: laws" $ do
        in not (isInfinite rounded) ==>
             arith mt op (VReal x) (VReal y) === Right (VReal rounded, Just False)
             .||. (exact == 0) -- the sign of an exact zero follows IEEE rules, not the rational
+  it "REAL /: the exact quotient rounded once to binary32 (finite, nonzero divisor)" $
+    property $ forAll ((,) <$> finiteFloat <*> finiteFloat) $ \(x, y) ->
+      let rounded = roundToReal (toRational x / toRational y)
+       in (y /= 0 && x /= 0 && not (isInfinite rounded)) ==>
+            arith mt OpDiv (VReal x) (VReal y) === Right (VReal rounded, Nothing)
+  it "REAL overflow: FLT_MAX of the sign and the flag under saturate, infinity under ieee" $
+    checkCoverage $ forAll ((,,) <$> genAddSubMul <*> bigFloat <*> bigFloat) $ \(op, x, y) ->
+      let rounded = roundToReal (exactOf' op (toRational x) (toRational y))
+       in cover 10 (isInfinite rounded) "overflow" $ cover 10 (not (isInfinite rounded)) "no overflow" $
+          if isInfinite rounded
+            then
+              arith mt op (VReal x) (VReal y) === Right (VReal (signum rounded * realFromBits 0x7F7FFFFF), Just True)
+                .&&. arith ieee op (VReal x) (VReal y) === Right (VReal rounded, Just True)
+            else
+              arith mt op (VReal x) (VReal y) === Right (VReal rounded, Just False)
+                .&&. arith ieee op (VReal x) (VReal y) === Right (VReal rounded, Just False)
   it "REAL: NaN operands propagate without a flag" $
     property $ forAll ((,) <$> genAddSubMul <*> finiteFloat) $ \(op, x) ->
       case arith mt op (VReal nan) (VReal x) of
