@@ -4,6 +4,8 @@
 module CheckErrorsSpec (spec) where
 
 import Control.Monad (forM_)
+import Data.Containers.ListUtils (nubOrd)
+import qualified Data.Text.IO as TIO
 import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.Checked (ModuleKind (..))
@@ -192,9 +194,24 @@ spec = describe "Check: verification errors" $ do
     it "rejects parameters in a P module" $ rejectsWith mastertoolXE ProcedureModule "procedure-parameters" src
     it "accepts them in an F module" $ acceptsWith mastertoolXE FunctionModule src
     it "accepts a P module whose program has only VAR" $ acceptsWith mastertoolXE ProcedureModule (program "A : INT;" "A := 1;")
+  describe "docs/diagnostics.md" $ do
+    sources <- runIO (mapM TIO.readFile ["src/Stref/Check.hs", "src/Stref/Check/Monad.hs", "src/Stref/Check/Expr.hs", "src/Stref/Check/Stmt.hs", "src/Stref/Check/Const.hs"])
+    doc <- runIO (TIO.readFile "docs/diagnostics.md")
+    let kinds = nubOrd (concatMap reportedKinds sources)
+    it "finds the kinds in the checker's source" $ length kinds `shouldSatisfy` (> 40)
+    forM_ kinds $ \kind -> it ("documents " <> T.unpack kind) $ doc `shouldSatisfy` T.isInfixOf ("| `" <> kind <> "` |")
   describe "error reporting" $ do
     it "reports several errors, ordered by position" $
       kindsOf (p "Y := Z;\nI := W;\nU := -U;")
         `shouldBe` ["undeclared-variable", "impossible-conversion", "invalid-unary-operation"]
     it "reports an error at the offending name: line 6 (after 5 lines of header), column 6" $
       either (map vePos) (const []) (checkText (p "Y := Z;")) `shouldBe` [Pos 6 6]
+
+-- | Every kind the checker's source can report, read from the source text.
+reportedKinds :: T.Text -> [T.Text]
+reportedKinds src =
+  [ T.takeWhile (/= '"') rest
+  | marker <- ["report \"", "verificationError \""]
+  , (_, hit) <- T.breakOnAll marker src
+  , let rest = T.drop (T.length marker) hit
+  ]
