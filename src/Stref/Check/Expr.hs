@@ -153,8 +153,15 @@ coerce pos t = \case
         | implicitConversion policy s t -> pure (Just (CConv s t e))
         | otherwise -> do
             report "impossible-conversion" pos $ -- MT-CONV-12, MT-VERR-12
-              "impossible to convert " <> tname s <> " to " <> tname t <> "; use an explicit conversion function such as " <> conversionName s t
+              "impossible to convert " <> tname s <> " to " <> tname t <> "; use the explicit conversion " <> explicitName s t <> "(...)"
             pure Nothing
+
+-- | The conversion function to suggest: the row of Table 4-6, or ANY_TO_
+-- where the row is missing (MT-CONV-7).
+explicitName :: BasicType -> BasicType -> Text
+explicitName s t = case conversionRow s t of
+  Just _ -> conversionName s t
+  Nothing -> "ANY_TO_" <> tname t
 
 readVariable :: Pos -> Ident -> Check (Maybe CExpr)
 readVariable pos name =
