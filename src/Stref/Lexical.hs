@@ -121,7 +121,8 @@ sc = do
   off <- getOffset
   next <- optional (lookAhead anySingle)
   case next of
-    Just '#' -> failAt off "invalid-symbol" "'#' must follow the base of a number (2#, 8# or 16#)" -- MT-LEX-11
+    -- MT-LEX-11: '#' can only follow a base (2#, 8#, 16#); alone it starts nothing
+    Just '#' -> failAt off "invalid-char" "the character '#' is not part of the language here: it can only follow the base of a number (2#, 8# or 16#)"
     Just c
       | not (legalChar c) ->
           failAt off "invalid-char" ("the character " <> describeChar c <> " is not part of the language") -- MT-LEX-15
@@ -455,6 +456,13 @@ operandRef = label "a PLC operand such as %M0010" $ do
       , Position . readDigits 10 <$> (char '[' *> sc *> lexeme (takeWhile1P (Just "a table position") isDigit) <* char ']')
       , pure NoSub
       ]
+  -- a bit of a table position (%TM0010[2].1) cannot be written in ST
+  bitAfterPosition <- hidden (optional (lookAhead (char '.')))
+  case (sub, bitAfterPosition) of
+    (Position _, Just _) -> do
+      whole <- wordAt (off + 1)
+      failAt off "invalid-operand" ("'%" <> whole <> "...' is not a PLC operand: a table position has no bits")
+    _ -> pure ()
   sc
   pure (pos, OperandRef (T.toUpper letters) (readDigits 10 address) sub)
 

@@ -150,6 +150,24 @@ spec = do
       let r = modl (prog' "S : STRING;")
       fmap fst (kindPos r) `shouldBe` Just "unsupported-type"
       either (T.isInfixOf "not supported by MasterTool XE" . veMessage) (const False) r `shouldBe` True
+    it "reads operand spellings of the manual (MT-MAP-7)" $
+      mapM_
+        ( \(src, op) ->
+            fmap (map (fmap snd . vdAt) . concatMap vbDecls . prBlocks . modProgram) (modl (prog' ("X AT " <> src <> " : INT;")))
+              `shouldBe` Right [Just op]
+        )
+        [ ("%M200", OperandRef "M" 200 NoSub)
+        , ("%M0123", OperandRef "M" 123 NoSub)
+        , ("%F0", OperandRef "F" 0 NoSub)
+        , ("%TM010[15]", OperandRef "TM" 10 (Position 15))
+        , ("%TM0010[000]", OperandRef "TM" 10 (Position 0))
+        , ("%E0010.5", OperandRef "E" 10 (BitOf 5))
+        , ("%tm0011[ 0 ]", OperandRef "TM" 11 (Position 0))
+        ]
+    it "refuses malformed operands with invalid-operand" $
+      mapM_
+        (\src -> (src, fmap fst (kindPos (modl (prog' ("X AT " <> src <> " : INT;"))))) `shouldBe` (src, Just "invalid-operand"))
+        ["%1234", "%M", "% M0001", "%TM0010[2].1"]
     it "refuses an operand without %" $
       fmap fst (kindPos (modl (prog' "X AT M0001 : INT;"))) `shouldBe` Just "expected-token"
 
