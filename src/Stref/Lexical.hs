@@ -307,7 +307,7 @@ name use = label "a name" $ do
     (WUnsupportedType, _) -> reserved "a reserved type name"
     (WInternal, _) -> reserved "reserved (names starting with INTERNAL_ belong to the controller)"
     (WStandardFunction, DeclName) -> reserved "the reserved name of a standard function"
-    (WStandardFunction, VarName) | not callFollows -> reserved "the reserved name of a standard function"
+    (WStandardFunction, _) | not callFollows -> reserved "the reserved name of a standard function"
     (WPredeclared, DeclName) -> reserved "a predeclared variable"
     _ -> pure ()
   pure (pos, Ident w)
