@@ -78,6 +78,7 @@ data CallResult = CallResult
   , crVars :: [(Text, Value)] -- ^ named variables at the end of the call (arrays element-wise: @P.V[3]@)
   , crSteps :: !Int -- ^ steps used of the budget
   , crExecuted :: !Bool -- ^ FALSE when INPUT1 was FALSE and the module did not run (MT-SIG-3)
+  , crOverflow :: !Bool -- ^ INTERNAL_OVERFLOW at the end of the call
   }
   deriving (Eq, Show)
 
@@ -101,7 +102,7 @@ runCompiled pol cfg cm compiled ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
       -- stay off and nothing else changes (not even the diagnostics)
-      (st, CallResult (False, False, False) Nothing [] 0 False)
+      (st, CallResult (False, False, False) Nothing [] 0 False False)
   | otherwise = case checks of
       Left err ->
         let m = machine0 {mOutputs = (False, False, False)}
@@ -174,7 +175,7 @@ runCompiled pol cfg cm compiled ci st
               { psMemory = mem'
               , psRetained = retained
               }
-       in (st', CallResult outs err (namedValues env m' cm) (mSteps m') True)
+       in (st', CallResult outs err (namedValues env m' cm) (mSteps m') True (mOverflow m'))
     clearOutput1 (_, b, c) = (False, b, c)
     machineMemory = Exec $ \_ m -> Done (mMemory m) m
 
