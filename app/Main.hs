@@ -9,10 +9,12 @@ import System.Environment (getArgs, getProgName)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
+import qualified Cmd.Eval
 import qualified Cmd.Parse
+import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty <> Cmd.Parse.command
+commands = mempty <> Cmd.Parse.command <> Cmd.Run.command <> Cmd.Eval.command
 
 main :: IO ()
 main = do
