@@ -204,6 +204,7 @@ data SnippetResult = SnippetResult
   , srType :: Maybe BasicType -- ^ of a bare expression
   , srResult :: CallResult
   }
+  deriving (Eq, Show)
 
 -- | The name of the variable that receives a bare expression's value.
 resultName :: Text
