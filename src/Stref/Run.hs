@@ -170,6 +170,7 @@ checked pol kind m = either (Left . Rejected) Right (checkModule pol kind m)
 -- | Run the calls of a checked module, in order.
 runModule :: RunSetup -> CModule -> [CallSpec] -> Either RunFailure RunOutcome
 runModule setup cm calls = do
+  mapM_ declared (rsInit setup ++ concatMap csSet calls)
   mem0 <- either (Left . BadSetting) Right (applySettings (rsInit setup) emptyMemory)
   let st0 = initialPlcState {psMemory = mem0}
       go st [] = Right (st, [])
@@ -181,6 +182,10 @@ runModule setup cm calls = do
         pure (stN, r : rs)
   (final, results) <- go st0 calls
   pure (RunOutcome cm st0 results final)
+  where
+    declared (o, _)
+      | cellDeclared (rsPlc setup) (operandCell o) = Right ()
+      | otherwise = Left (BadSetting (renderOperand o <> " is not declared in the controller's configuration"))
 
 -- | Parse, check and run.
 runSource :: RunSetup -> FilePath -> Text -> [CallSpec] -> Either RunFailure RunOutcome
