@@ -177,12 +177,13 @@ runModule setup cm calls = do
       go st (c : rest) = do
         mem <- either (Left . BadSetting) Right (applySettings (csSet c) (psMemory st))
         let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
-            (st', r) = runCall (rsPolicies setup) (rsPlc setup) cm ci st {psMemory = mem}
+            (st', r) = runCompiled (rsPolicies setup) (rsPlc setup) cm compiled ci st {psMemory = mem}
         (stN, rs) <- go st' rest
         pure (stN, r : rs)
   (final, results) <- go st0 calls
   pure (RunOutcome cm st0 results final)
   where
+    compiled = compileModule (rsPolicies setup) cm
     declared (o, _)
       | cellDeclared (rsPlc setup) (operandCell o) = Right ()
       | otherwise = Left (BadSetting (renderOperand o <> " is not declared in the controller's configuration"))
