@@ -19,7 +19,6 @@ import Data.Char (toUpper)
 import Data.List (minimumBy, sortOn)
 import qualified Data.Map.Strict as M
 import Data.Ord (comparing)
-import Data.Scientific (floatingOrInteger)
 import Data.Text (Text)
 import qualified Data.Text as T
 import Data.Word (Word32)
@@ -130,7 +129,7 @@ scalarToCellBits op s
       Nothing -> Left (renderOperand op <> " takes a REAL value")
   | otherwise = case s of
       SBits b | toInteger b < 2 ^ width -> Right b
-      SNumber n | Right i <- (floatingOrInteger n :: Either Double Integer), i >= negate (2 ^ (width - 1)), i < 2 ^ width ->
+      SNumber n | Just i <- smallInteger n, i >= negate (2 ^ (width - 1)), i < 2 ^ width ->
         Right (fromInteger (i `mod` (2 ^ width)))
       _ -> Left ("a value that does not fit the " <> T.pack (show width) <> " bits of " <> renderOperand op)
   where

@@ -13,6 +13,7 @@ module Stref.Conformance.Protocol
   , scalarFromFloat
   , scalarToFloat
   , scientificToFloat
+  , smallInteger
   -- * Requests
   , Request (..)
   , PlcRequest (..)
@@ -42,7 +43,7 @@ import qualified Data.ByteString.Lazy as BL
 import Data.Char (isHexDigit)
 import Data.Map.Strict (Map)
 import qualified Data.Map.Strict as M
-import Data.Scientific (Scientific, base10Exponent, coefficient, fromFloatDigits)
+import Data.Scientific (Scientific, base10Exponent, coefficient, floatingOrInteger, fromFloatDigits)
 import Data.Text (Text)
 import qualified Data.Text as T
 import Data.Word (Word32)
@@ -118,6 +119,16 @@ scientificToFloat n
   | otherwise = fromRational (toRational n)
   where
     digits = length (show (abs (coefficient n)))
+
+-- | The integer a number denotes, if it is one of at most 40 digits (so that
+-- an answer such as @1e1000000000@ cannot make the runner build a huge
+-- integer).
+smallInteger :: Scientific -> Maybe Integer
+smallInteger n
+  | base10Exponent n > 40 = Nothing
+  | otherwise = case floatingOrInteger n :: Either Double Integer of
+      Right i | abs i < 10 ^ (40 :: Int) -> Just i
+      _ -> Nothing
 
 -- | Which operands the controller declares: counts of simple operands and
 -- positions of each table (@TM@ address → positions).
