@@ -9,9 +9,12 @@ import System.Environment (getArgs, getProgName)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
+import qualified Cmd.Conformance
+import qualified Cmd.Coverage
+import qualified Cmd.Engine
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty
+commands = mempty <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command
 
 main :: IO ()
 main = do
