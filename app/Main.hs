@@ -9,6 +9,7 @@ import System.Environment (getArgs, getProgName)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
+import qualified Cmd.Check
 import qualified Cmd.Conformance
 import qualified Cmd.Coverage
 import qualified Cmd.Engine
@@ -18,7 +19,7 @@ import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
 commands =
-  mempty <> Cmd.Parse.command <> Cmd.Run.command <> Cmd.Eval.command
+  mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
     <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command
 
 main :: IO ()

@@ -13,6 +13,7 @@ import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
 import System.Exit
 import System.IO (hPutStrLn, stderr)
+import System.IO.Error (ioeGetErrorString, isDoesNotExistError)
 import Stref.Policy (mastertoolXE, setPolicy)
 import Stref.Syntax (Module, Pos)
 import Stref.Syntax.Parser (parseModule)
@@ -46,7 +47,9 @@ run (Options file ast policyArgs) =
     Right policies -> do
       contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
       case contents of
-        Left e -> usage ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
+        Left e
+          | isDoesNotExistError e -> usage ("cannot read " <> T.pack file <> ": there is no such file")
+          | otherwise -> usage ("cannot read " <> T.pack file <> ": " <> T.pack (ioeGetErrorString e))
         Right bytes -> do
           -- the manuals' sources are Latin-1 or UTF-8; bad bytes become U+FFFD,
           -- which the lexer reports as an invalid character outside comments

@@ -56,7 +56,7 @@ import Text.Megaparsec hiding (Pos)
 import Text.Megaparsec.Char (char, string)
 
 -- | A lexical or syntax problem with its stable kind.
-data Issue = Issue {issueKind :: Text, issueMessage :: Text}
+data Issue = Issue {issueKind :: Text, issueMessage :: Text, issueOffset :: Int}
   deriving (Eq, Ord, Show)
 
 instance ShowErrorComponent Issue where
@@ -68,9 +68,13 @@ data Env = Env {envPolicies :: Policies, envDepth :: Int}
 
 type Parser = ParsecT Issue Text (Reader Env)
 
--- | Fail with a stable kind at a given offset.
+-- | Fail with a stable kind, reporting the given offset (usually the start
+-- of the offending token). Megaparsec sees the error at the current offset,
+-- so that it wins over the errors of alternatives that stopped earlier.
 failAt :: Int -> Text -> Text -> Parser a
-failAt off kind msg = parseError (FancyError off (Set.singleton (ErrorCustom (Issue kind msg))))
+failAt off kind msg = do
+  here <- getOffset
+  parseError (FancyError (max off here) (Set.singleton (ErrorCustom (Issue kind msg off))))
 
 getPos :: Parser Pos
 getPos = do
@@ -113,7 +117,7 @@ isWordChar c = isWordStart c || isDigit c
 -- start a token (MT-VERR-1).
 sc :: Parser ()
 sc = do
-  skipMany (void (takeWhile1P Nothing isBlank) <|> comment)
+  hidden (skipMany (void (takeWhile1P Nothing isBlank) <|> comment))
   off <- getOffset
   next <- optional (lookAhead anySingle)
   case next of
@@ -135,13 +139,17 @@ comment = do
   off <- getOffset
   _ <- string "(*"
   nesting <- asks (pNestedComments . envPolicies)
-  let loop :: Int -> Parser ()
+  let loop, loopStep :: Int -> Parser ()
       loop d = do
         _ <- takeWhileP Nothing (\c -> c /= '*' && c /= '(')
+        finished <- atEnd
+        if finished
+          then failAt off "comment-not-closed" "this comment is not closed with *) before the end of the file" -- MT-VERR-3
+          else loopStep d
+      loopStep d =
         choice
           [ string "*)" >> (if d <= 1 then pure () else loop (d - 1))
           , if nesting == Nesting then string "(*" >> loop (d + 1) else empty
-          , eof >> failAt off "comment-not-closed" "this comment is not closed with *) before the end of the file" -- MT-VERR-3
           , anySingle >> loop d
           ]
   loop 1
@@ -152,9 +160,13 @@ lexeme p = p <* sc
 -- | A punctuation symbol; @:@ does not match the start of @:=@, @<@ not that
 -- of @<=@ or @<>@, and so on.
 symbol :: Text -> Parser ()
-symbol s = lexeme (void (try (string s <* notFollowedBy (satisfy (continues s))))) <?> ("'" <> T.unpack s <> "'")
+symbol s = label ("'" <> T.unpack s <> "'") $ do
+  here <- hidden (optional (try (lookAhead (string s <* notFollowedBy (satisfy continues)))))
+  case here of
+    Just _ -> string s >> sc
+    Nothing -> empty
   where
-    continues t c = case t of
+    continues c = case s of
       ":" -> c == '='
       "<" -> c == '=' || c == '>'
       ">" -> c == '='
@@ -174,7 +186,9 @@ peekWord = optional (lookAhead (T.toUpper <$> rawWord))
 
 -- | A keyword, case-insensitive (MT-LEX-5).
 keyword :: Text -> Parser ()
-keyword k = lexeme (void (try (rawWord >>= \w -> if T.toUpper w == k then pure () else empty))) <?> T.unpack k
+keyword k = label (T.unpack k) $ do
+  w <- lookAhead rawWord
+  if T.toUpper w == k then rawWord >> sc else empty
 
 ------------------------------------------------------------------------------
 -- Reserved words (MT-LEX-17)
@@ -273,6 +287,8 @@ name :: NameUse -> Parser (Pos, Ident)
 name use = label "a name" $ do
   pos <- getPos
   off <- getOffset
+  -- a malformed number where a name is expected is an invalid symbol
+  _ <- hidden (optional (lookAhead (satisfy isDigit) *> lookAhead numberLiteral))
   policies <- asks envPolicies
   w <- try (lookAhead rawWord >>= \w -> if classifyWord policies (T.toUpper w) == WKeyword then empty else pure w)
   _ <- rawWord

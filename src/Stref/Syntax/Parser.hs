@@ -46,7 +46,7 @@ runP :: Policies -> FilePath -> Parser a -> Text -> Either VerificationError a
 runP p file parser src =
   case runReader (runParserT' parser initial) (Env p 0) of
     (_, Right x) -> Right x
-    (_, Left bundle) -> Left (toVerificationError src (NE.head (bundleErrors bundle)))
+    (_, Left bundle) -> Left (toVerificationError p src (NE.head (bundleErrors bundle)))
   where
     initial =
       State
@@ -210,6 +210,7 @@ block = nested (many statement)
 assignOrCall :: Parser (Stmt Pos)
 assignOrCall = do
   pos <- getPos
+  off <- getOffset
   (npos, n) <- name CallName
   s <-
     choice
@@ -221,9 +222,17 @@ assignOrCall = do
           Assign pos (LIndex npos n i) <$> expr
       , symbol ":=" *> (Assign pos (LVar npos n) <$> expr)
       , CallStmt pos n <$> arguments
+      , strictElseif off n
       ]
   semi
   pure s
+  where
+    -- A1: under elsif-keyword=ELSIF the word ELSEIF is an ordinary name;
+    -- say what happened instead of complaining about the next token
+    strictElseif off n
+      | T.toUpper (identText n) == "ELSEIF" =
+          failAt off "expected-token" "expected ELSIF instead of ELSEIF (the elsif-keyword policy is ELSIF; ELSIF+ELSEIF accepts both)"
+      | otherwise = empty
 
 ifStmt :: Parser (Stmt Pos)
 ifStmt = do
@@ -397,11 +406,11 @@ arguments = do
 ------------------------------------------------------------------------------
 -- Error messages
 
-toVerificationError :: Text -> ParseError Text Issue -> VerificationError
-toVerificationError src = \case
+toVerificationError :: Policies -> Text -> ParseError Text Issue -> VerificationError
+toVerificationError policies src = \case
   FancyError off xs ->
     case [i | ErrorCustom i <- Set.toList xs] of
-      (Issue kind msg : _) -> VerificationError kind (posAt src off) msg
+      (Issue kind msg at : _) -> VerificationError kind (posAt src at) msg
       [] ->
         VerificationError "unexpected" (posAt src off) $
           T.intercalate "; " [T.pack m | ErrorFail m <- Set.toList xs]
@@ -409,8 +418,11 @@ toVerificationError src = \case
     let found = describeText src off
         labels = [renderItem i | i <- Set.toList expected]
         hasOperator = "an operator" `elem` labels
-        startsOperand = case T.uncons (T.drop off src) of
-          Just (c, _) -> isWordStart c || isDigit c || c == '('
+        rest = T.drop off src
+        startsOperand = case T.uncons rest of
+          Just (c, _)
+            | isWordStart c -> classifyWord policies (T.toUpper (T.takeWhile isWordChar rest)) /= WKeyword
+            | otherwise -> isDigit c || c == '('
           Nothing -> False
      in if hasOperator && startsOperand
           then
