@@ -121,7 +121,8 @@ sc = do
   off <- getOffset
   next <- optional (lookAhead anySingle)
   case next of
-    Just '#' -> failAt off "invalid-symbol" "'#' must follow the base of a number (2#, 8# or 16#)" -- MT-LEX-11
+    -- MT-LEX-11: '#' can only follow a base (2#, 8#, 16#); alone it starts nothing
+    Just '#' -> failAt off "invalid-char" "the character '#' is not part of the language here: it can only follow the base of a number (2#, 8# or 16#)"
     Just c
       | not (legalChar c) ->
           failAt off "invalid-char" ("the character " <> describeChar c <> " is not part of the language") -- MT-LEX-15
@@ -195,7 +196,9 @@ keyword k = label (T.unpack k) $ do
 
 -- | Words that are never names. The PT list of the manual's appendix, less
 -- the type names, the standard function names and the predeclared signals
--- (listed separately below). Two deliberate omissions: the SFC action
+-- (listed separately below). The printed typos VAR_ACESS and "RESOURCE ON
+-- END_REPEAT" are read as VAR_ACCESS (both spellings reserved) and
+-- END_RESOURCE. Two deliberate omissions: the SFC action
 -- qualifiers N R S L D P SD DS SL LD ST (the manual's own IF example declares
 -- a variable D), and END (decision A30). ELSEIF is added by policy (A1).
 keywords :: Set.Set Text
@@ -209,7 +212,7 @@ keywords =
     , "END_FUNCTION_BLOCK", "PROGRAM", "WITH", "END_PROGRAM", "READ_ONLY"
     , "READ_WRITE", "RESOURCE", "ON", "END_RESOURCE", "RETAIN", "STRUCT", "END_STRUCT", "TASK"
     , "TYPE", "END_TYPE", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_EXTERNAL", "VAR_ACESS"
-    , "VAR_ACCESS", "VAR_GLOBAL", "JMP", "CAL", "RET", "ACTION", "END_ACTION", "INITIAL_STEP"
+    , "VAR_ACCESS", "JMP", "CAL", "RET", "ACTION", "END_ACTION", "INITIAL_STEP"
     , "END_STEP", "STEP", "TRANSITION", "FROM", "END_TRANSITION"
     , "BOOL", "BYTE", "WORD", "DWORD", "USINT", "INT", "DINT", "REAL"
     ]
@@ -219,7 +222,7 @@ unsupportedTypeNames :: Set.Set Text
 unsupportedTypeNames =
   Set.fromList
     [ "SINT", "UINT", "UDINT", "LINT", "ULINT", "LWORD", "LREAL", "TIME", "DATE"
-    , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "WSTRING", "ANY", "ANY_NUM"
+    , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "ANY", "ANY_NUM"
     , "ANY_REAL", "ANY_INT", "ANY_BIT", "ANY_DATE"
     ]
 
@@ -233,7 +236,7 @@ standardFunctionNames =
     [ "ABS", "SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"
     , "SEL", "MAX", "MIN", "MIM", "LIMIT", "MUX", "LEFT", "RIGHT", "MID", "CONCAT"
     , "INSERT", "DELETE", "REPLACE", "LEN", "FIND", "ADD", "MUL", "DIV", "EXPT", "MOVE"
-    , "SHL", "SHR", "ROR", "ROL", "GT", "GE", "EQ", "LE", "LT", "NE", "TRUNC", "SUB"
+    , "SHL", "SHR", "ROR", "ROL", "GT", "GE", "EQ", "LE", "LT", "NE", "TRUNC"
     ]
 
 -- | Reserved names that denote predeclared variables: the module signals
@@ -306,7 +309,7 @@ name use = label "a name" $ do
     (WUnsupportedType, _) -> reserved "a reserved type name"
     (WInternal, _) -> reserved "reserved (names starting with INTERNAL_ belong to the controller)"
     (WStandardFunction, DeclName) -> reserved "the reserved name of a standard function"
-    (WStandardFunction, VarName) | not callFollows -> reserved "the reserved name of a standard function"
+    (WStandardFunction, _) | not callFollows -> reserved "the reserved name of a standard function"
     (WPredeclared, DeclName) -> reserved "a predeclared variable"
     _ -> pure ()
   pure (pos, Ident w)
@@ -455,6 +458,13 @@ operandRef = label "a PLC operand such as %M0010" $ do
       , Position . readDigits 10 <$> (char '[' *> sc *> lexeme (takeWhile1P (Just "a table position") isDigit) <* char ']')
       , pure NoSub
       ]
+  -- a bit of a table position (%TM0010[2].1) cannot be written in ST
+  bitAfterPosition <- hidden (optional (lookAhead (char '.')))
+  case (sub, bitAfterPosition) of
+    (Position _, Just _) -> do
+      whole <- wordAt (off + 1)
+      failAt off "invalid-operand" ("'%" <> whole <> "...' is not a PLC operand: a table position has no bits")
+    _ -> pure ()
   sc
   pure (pos, OperandRef (T.toUpper letters) (readDigits 10 address) sub)
 

@@ -71,6 +71,8 @@ spec = do
       expr "2#1111_1111" `shouldBe` lit (LInt 255 2)
       expr "16#00AA" `shouldBe` lit (LInt 170 16)
       expr "16#8000" `shouldBe` lit (LInt 32768 16)
+    it "rejects #0010001 (no base): '#' cannot start a token" $
+      kind (expr "#0010001") `shouldBe` Just "invalid-char"
     it "reads _1546 as a name, not a literal (MT-LEX-18)" $
       expr "_1546" `shouldBe` Right (EVar () (Ident "_1546"))
     it "reads -_5447 as minus applied to the name _5447 (MT-LEX-18)" $
@@ -78,7 +80,7 @@ spec = do
     it "rejects the invalid literals as invalid symbols" $
       mapM_
         (\t -> (t, kind (expr t)) `shouldBe` (t, Just "invalid-symbol"))
-        ["4578_", "10__135", "#0010001", "2#4577_0158#00159", "16#_1789", "16#4587_", "2#102", "8#9", "3#12", "16#"]
+        ["4578_", "10__135", "2#4577_0158#00159", "16#_1789", "16#4587_", "2#102", "8#9", "3#12", "16#"]
 
   describe "Table 4-4 real literals (MT-LEX-13, MT-LEX-14)" $ do
     it "reads -1.34E-2 as minus applied to 0.0134" $

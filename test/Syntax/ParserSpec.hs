@@ -150,6 +150,24 @@ spec = do
       let r = modl (prog' "S : STRING;")
       fmap fst (kindPos r) `shouldBe` Just "unsupported-type"
       either (T.isInfixOf "not supported by MasterTool XE" . veMessage) (const False) r `shouldBe` True
+    it "reads operand spellings of the manual (MT-MAP-7)" $
+      mapM_
+        ( \(src, op) ->
+            fmap (map (fmap snd . vdAt) . concatMap vbDecls . prBlocks . modProgram) (modl (prog' ("X AT " <> src <> " : INT;")))
+              `shouldBe` Right [Just op]
+        )
+        [ ("%M200", OperandRef "M" 200 NoSub)
+        , ("%M0123", OperandRef "M" 123 NoSub)
+        , ("%F0", OperandRef "F" 0 NoSub)
+        , ("%TM010[15]", OperandRef "TM" 10 (Position 15))
+        , ("%TM0010[000]", OperandRef "TM" 10 (Position 0))
+        , ("%E0010.5", OperandRef "E" 10 (BitOf 5))
+        , ("%tm0011[ 0 ]", OperandRef "TM" 11 (Position 0))
+        ]
+    it "refuses malformed operands with invalid-operand" $
+      mapM_
+        (\src -> (src, fmap fst (kindPos (modl (prog' ("X AT " <> src <> " : INT;"))))) `shouldBe` (src, Just "invalid-operand"))
+        ["%1234", "%M", "% M0001", "%TM0010[2].1"]
     it "refuses an operand without %" $
       fmap fst (kindPos (modl (prog' "X AT M0001 : INT;"))) `shouldBe` Just "expected-token"
 
@@ -183,6 +201,24 @@ spec = do
       either veMessage (const "") (modl "PROGRAM P X := 1;") `shouldSatisfy` T.isInfixOf "end of the file"
     it "counts a tab as one column" $
       kindPos (modl "PROGRAM P\n\tX := 1 2;\nEND_PROGRAM") `shouldBe` Just ("unexpected-after", Pos 2 9)
+
+  describe "positions" $ do
+    it "puts statements and operands at their first token and binary operations at the operator" $
+      parseStatements mastertoolXE "  X := a +\n  -b;"
+        `shouldBe` Right
+          [ Assign
+              (Pos 1 3)
+              (LVar (Pos 1 3) (Ident "X"))
+              (EBinary (Pos 1 10) Add (EVar (Pos 1 8) (Ident "a")) (EUnary (Pos 2 3) Neg (EVar (Pos 2 4) (Ident "b"))))
+          ]
+
+  describe "standard function names (MT-OP-21)" $ do
+    it "may be called, as an expression or a statement" $ do
+      fmap (map (() <$)) (parseStatements mastertoolXE "SQRT(2); X := MAX(1, 2);")
+        `shouldBe` Right [CallStmt () (Ident "SQRT") [int 2], Assign () (LVar () (Ident "X")) (ECall () (Ident "MAX") [int 1, int 2])]
+    it "may not be assigned or read as variables" $ do
+      fmap fst (kindPos (stmts "ABS := 1;")) `shouldBe` Just "unexpected"
+      fmap fst (kindPos (stmts "X := LIMIT + 1;")) `shouldBe` Just "unexpected"
 
   describe "nesting limit" $ do
     it "refuses 1000 nested parentheses with nesting-too-deep" $
