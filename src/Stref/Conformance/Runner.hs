@@ -211,11 +211,13 @@ askEngine :: RunOptions -> Request -> IO (Either Text Answer)
 askEngine o rq = case roEngine o of
   Reference overrides -> do
     let answer = referenceEngine overrides rq
-    r <- timeout (micros (roTimeout o)) (try (evaluate (BL.length (encodeAnswer answer))))
+    -- the timeout's own exception must not be caught as a failure: 'try'
+    -- stays outside 'timeout'
+    r <- try (timeout (micros (roTimeout o)) (evaluate (BL.length (encodeAnswer answer))))
     pure $ case r of
-      Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
-      Just (Left (e :: SomeException)) -> Left ("the reference engine failed: " <> T.pack (show e))
-      Just (Right _) -> Right answer
+      Left (e :: SomeException) -> Left ("the reference engine failed: " <> T.pack (show e))
+      Right Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
+      Right (Just _) -> Right answer
   External cmd -> do
     r <- runExternal cmd (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
     pure $ r >>= \bytes -> case decodeAnswer (BL.fromStrict bytes) of
