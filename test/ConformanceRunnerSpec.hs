@@ -47,7 +47,7 @@ spec = describe "Conformance runner" $ do
         forM_ rs $ \r -> case resOutcome r of
           EngineError e -> e `shouldSatisfy` T.isInfixOf reason
           o -> expectationFailure (T.unpack (resId r) ++ ": expected engine-error, got " ++ show o)
-        -- five cases on five workers, each bounded by the 2 s limit
+        -- six cases on five workers, each bounded by the 2 s limit
         (t1 - t0) `shouldSatisfy` (< 15)
 
     it "kills the engine's whole process group on timeout" $ do
@@ -59,7 +59,7 @@ spec = describe "Conformance runner" $ do
 
   it "an engine's unsupported answers are counted apart" $ do
     rs <- fixtures >>= runCorpus (external (engineScript "unsupported") 5)
-    totals rs `shouldBe` Totals 0 0 5 0 0
+    totals rs `shouldBe` Totals 0 0 6 0 0
     any failing rs `shouldBe` False
 
   it "judges a canned engine: the case it answers right passes, the others fail" $ do
@@ -70,9 +70,9 @@ spec = describe "Conformance runner" $ do
 
   it "reports known failures as skipped and does not fail the run for them" $ do
     corpus <- fixtures
-    let failingIds = S.fromList ["mastertool-xe/arith/real-rounding", "mastertool-xe/arith/real-sum", "mastertool-xe/calls/div-zero", "mastertool-xe/calls/three-calls"]
+    let failingIds = S.fromList ["mastertool-xe/arith/real-rounding", "mastertool-xe/arith/real-sum", "mastertool-xe/calls/div-zero", "mastertool-xe/calls/named-vars", "mastertool-xe/calls/three-calls"]
     rs <- runCorpus (external (engineScript "canned") 5) {roKnownFailures = failingIds} corpus
-    totals rs `shouldBe` Totals 1 0 0 0 4
+    totals rs `shouldBe` Totals 1 0 0 0 5
     any failing rs `shouldBe` False
     [resId r | r <- rs, resKnownFailure r] `shouldBe` S.toList failingIds
 
@@ -82,13 +82,13 @@ spec = describe "Conformance runner" $ do
     let allIds = map entryId (corpusEntries corpus)
     S.unions (map S.fromList shards) `shouldBe` S.fromList allIds
     sum (map length shards) `shouldBe` length allIds
-    map length shards `shouldBe` [2, 2, 1]
+    map length shards `shouldBe` [2, 2, 2]
 
   it "skips what --filter, --feature and --rule leave out" $ do
     corpus <- fixtures
     rs <- runCorpus (external (engineScript "unsupported") 5) {roFeatures = ["calls"]} corpus
     [resId r | r <- rs, Unsupported _ <- [resOutcome r]] `shouldBe` ["mastertool-xe/calls/three-calls"]
-    tSkipped (totals rs) `shouldBe` 4
+    tSkipped (totals rs) `shouldBe` 5
     rs' <- runCorpus (external (engineScript "unsupported") 5) {roRules = ["MT-OP-7"], roFilters = ["*/arith/*"]} corpus
     [resId r | r <- rs', Unsupported _ <- [resOutcome r]] `shouldBe` ["mastertool-xe/arith/int-add-saturates"]
 
@@ -99,7 +99,7 @@ spec = describe "Conformance runner" $ do
         xml = BLC.unpack (junitReport (rs' ++ [CaseResult "mastertool-xe/calls/broken" "f" Nothing (EngineError "crashed") False 0]))
     forM_
       [ "<?xml version=\"1.0\" encoding=\"UTF-8\"?>"
-      , "<testsuites name=\"stref conformance\" tests=\"6\" failures=\"3\" errors=\"1\" skipped=\"1\""
+      , "<testsuites name=\"stref conformance\" tests=\"7\" failures=\"4\" errors=\"1\" skipped=\"1\""
       , "<testsuite name=\"mastertool-xe/arith\" tests=\"3\" failures=\"2\" errors=\"0\" skipped=\"0\" time=\""
       , "<testcase name=\"int-add-saturates\" classname=\"mastertool-xe.arith\" time=\""
       , "<failure message=\"%M0101: expected 2, got not reported\">"
@@ -136,16 +136,16 @@ spec = describe "Conformance runner" $ do
       stref <- strefBinary
       (code, out, _) <- readProcessWithExitCode stref ["conformance", fixtureCorpus, "--engine", stref ++ " engine", "-j", "2"] ""
       code `shouldBe` ExitSuccess
-      last (lines out) `shouldBe` "5 passed, 0 failed, 0 unsupported, 0 engine-error, 0 skipped"
+      last (lines out) `shouldBe` "6 passed, 0 failed, 0 unsupported, 0 engine-error, 0 skipped"
 
     it "`stref conformance` exits 1 on a failure and reads a known-failures file" $ do
       stref <- strefBinary
       (code, out, _) <- readProcessWithExitCode stref ["conformance", fixtureCorpus, "--engine", engineScript "canned"] ""
       code `shouldBe` ExitFailure 1
-      last (lines out) `shouldBe` "1 passed, 4 failed, 0 unsupported, 0 engine-error, 0 skipped"
+      last (lines out) `shouldBe` "1 passed, 5 failed, 0 unsupported, 0 engine-error, 0 skipped"
       (code', out', _) <- readProcessWithExitCode stref ["conformance", fixtureCorpus, "--engine", engineScript "canned", "--known-failures", "test/fixtures/known-failures-canned"] ""
       code' `shouldBe` ExitSuccess
-      last (lines out') `shouldBe` "1 passed, 0 failed, 0 unsupported, 0 engine-error, 4 skipped"
+      last (lines out') `shouldBe` "1 passed, 0 failed, 0 unsupported, 0 engine-error, 5 skipped"
 
     it "`stref conformance --format json` writes the documented report" $ do
       stref <- strefBinary

@@ -152,7 +152,8 @@ runCorpus o corpus = do
         Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known (caseId c)) 0)
         Nothing -> do
           t0 <- getMonotonicTime
-          outcome <- runOne o c
+          -- whatever goes wrong while running one case ends only that case
+          outcome <- either (\(e :: SomeException) -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> try (runOne o c)
           t1 <- getMonotonicTime
           let k = known (caseId c)
               outcome' = if k then knownFailure outcome else outcome
