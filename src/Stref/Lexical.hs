@@ -100,8 +100,10 @@ nested p = do
 ------------------------------------------------------------------------------
 -- White space and comments (MT-LEX-7, MT-LEX-8)
 
+-- | White space: space, tab and line breaks (MT-LEX-7), and the byte-order
+-- mark that editors on Windows put at the start of a file.
 isBlank :: Char -> Bool
-isBlank c = c == ' ' || c == '\t' || c == '\n' || c == '\r'
+isBlank c = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\xFEFF'
 
 -- | Characters that may start or continue a token outside comments.
 legalChar :: Char -> Bool

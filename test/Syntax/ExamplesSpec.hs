@@ -39,6 +39,7 @@ manualExamples =
     , "expt", "array_initialiser", "var_constant", "f_module_parameters", "f_module_declaration"
     , "function_declaration", "bitwise_byte", "if_elseif", "case", "while", "repeat", "for"
     , "status_machine", "event_buffer", "temperature_table", "temperature_table_en"
+    , "mapping_declarations", "variable_list"
     ]
 
 checkFile :: FilePath -> Expectation

@@ -91,7 +91,12 @@ realLitAt pos q t
   where
     r = realLiteral q
 
--- | A42/A11: the smallest of INT, DINT, DWORD that holds the value.
+negateLiteral :: CExpr -> CExpr
+negateLiteral = \case
+  CLit (VReal r) -> CLit (VReal (negate r))
+  e -> e
+
+-- | A11: the smallest of INT, DINT, DWORD that holds the value.
 intDefault :: Integer -> BasicType
 intDefault v = case [t | t <- [INT, DINT, DWORD], fits t] of
   (t : _) -> t
@@ -118,6 +123,9 @@ checkExprWith policy = \case
   ECall pos name args -> checkCall pos name args
   -- MT-LEX-19: a minus before an integer literal makes a negative literal
   EUnary pos Neg (ELit _ (LInt v _)) -> pure (Just (intLiteral policy pos (negate v)))
+  -- the same for a real literal: no negation at run time (so INTERNAL_OVERFLOW
+  -- is not touched, A5); the sign of -0.0 is kept
+  EUnary pos Neg (ELit _ (LReal q)) -> pure (Just (Open (Flex REAL (fmap negateLiteral . realLitAt pos q))))
   EUnary pos op e -> checkExpr e >>= maybe (pure Nothing) (unary pos op)
   EBinary pos op a b -> do
     ta <- checkExpr a
