@@ -33,6 +33,7 @@ m = OpSimple KM
 
 spec :: Spec
 spec = describe "Conformance case files" $ do
+  expectIfSpec
   it "loads the contract's example case with its id, area, metadata and defaults" $ do
     c <- loaded "mastertool-xe/arith/int-add-saturates"
     caseDialect c `shouldBe` "mastertool-xe"
@@ -129,3 +130,29 @@ spec = describe "Conformance case files" $ do
           , "RULES:4: the third field must read 'untestable: <reason>'"
           , "RULES:3: rule MT-A-1 is listed twice"
           ]
+
+-- | A case parsed from text, for the expect-if rules.
+policyCase :: Text -> Either Text Case
+policyCase meta =
+  parseCase "t.st" (CaseOrigin "mastertool-xe/t/t" "mastertool-xe" "t") (const True) ("(*---\n" <> meta <> "---*)\nPROGRAM P\nEND_PROGRAM\n")
+
+expectIfSpec :: Spec
+expectIfSpec = describe "expect-if entries" $ do
+  let under k v = either (error . T.unpack) id (setPolicy k v mastertoolXE)
+  it "an entry's error code turns the verdict into runtime-error" $ do
+    c <- either (fail . T.unpack) pure . policyCase $
+      "description: d\nrules: [R]\nexpect:\n  operands: {\"%M0012\": 32767}\n  error: none\nexpect-if:\n  - when: {overflow: trap}\n    error: {code: 9001}\n"
+    let trap = effectiveExpect (under "overflow" "trap") c
+    expectedVerdict trap `shouldBe` ExpRuntimeError
+    exError trap `shouldBe` Just (ErrCode 9001 Nothing Nothing)
+    expectedVerdict (effectiveExpect mastertoolXE c) `shouldBe` ExpOk
+  it "an entry's ok drops the error code of expect" $ do
+    c <- either (fail . T.unpack) pure . policyCase $
+      "description: d\nrules: [R]\nexpect:\n  error: {code: 2020}\nexpect-if:\n  - when: {div-zero: zero}\n    verdict: ok\n    operands: {\"%M0012\": 0}\n"
+    let zero = effectiveExpect (under "div-zero" "zero") c
+    (expectedVerdict zero, exError zero) `shouldBe` (ExpOk, Nothing)
+  it "an entry's rejection drops the error of expect" $ do
+    c <- either (fail . T.unpack) pure . policyCase $
+      "description: d\nrules: [R]\nexpect:\n  error: none\nexpect-if:\n  - when: {elsif-keyword: ELSIF}\n    reject: {kind: syntax-error}\n"
+    let strict = effectiveExpect (under "elsif-keyword" "ELSIF") c
+    (expectedVerdict strict, exError strict, exReject strict) `shouldBe` (ExpRejected, Nothing, Just (ExpReject Nothing (Just "syntax-error")))

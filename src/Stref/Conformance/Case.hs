@@ -146,20 +146,38 @@ data CaseOrigin = CaseOrigin
 
 -- | The expectation under the given policies: @expect@, then every matching
 -- @expect-if@ entry in order, each overriding the keys it states (maps are
--- merged operand by operand).
+-- merged operand by operand). An entry's verdict, stated or inferred from
+-- its keys, replaces the earlier one and drops what no longer applies: an
+-- error code under a new @ok@ or @rejected@, a @reject@ under a run.
 effectiveExpect :: Policies -> Case -> Expect
 effectiveExpect pol c = foldl merge (caseExpect c) [cdExpect d | d <- caseExpectIf c, all holds (cdWhen d)]
   where
     holds (name, choice) = maybe False (\info -> piGet info pol == choice) (lookupPolicy name)
     merge a b =
-      Expect
-        { exVerdict = maybe (exVerdict a) Just (exVerdict b)
-        , exOperands = M.union (exOperands b) (exOperands a)
-        , exVars = M.union (exVars b) (exVars a)
-        , exOutputs = M.union (exOutputs b) (exOutputs a)
-        , exError = maybe (exError a) Just (exError b)
-        , exReject = maybe (exReject a) Just (exReject b)
-        }
+      let v = entryVerdict b
+       in Expect
+            { exVerdict = maybe (exVerdict a) Just v
+            , exOperands = M.union (exOperands b) (exOperands a)
+            , exVars = M.union (exVars b) (exVars a)
+            , exOutputs = M.union (exOutputs b) (exOutputs a)
+            , exError = case (exError b, v) of
+                (Just e, _) -> Just e
+                (Nothing, Just ExpRejected) -> Nothing
+                (Nothing, Just ExpOk) | Just ErrCode {} <- exError a -> Nothing
+                _ -> exError a
+            , exReject = case (exReject b, v) of
+                (Just r, _) -> Just r
+                (Nothing, Just ExpRejected) -> exReject a
+                (Nothing, Just _) -> Nothing
+                (Nothing, Nothing) -> exReject a
+            }
+    entryVerdict b = case exVerdict b of
+      Just v -> Just v
+      Nothing
+        | Just _ <- exReject b -> Just ExpRejected
+        | Just ErrCode {} <- exError b -> Just ExpRuntimeError
+        | Just ErrNone <- exError b -> Just ExpOk
+        | otherwise -> Nothing
 
 -- | The verdict a case expects: as stated, else @rejected@ when a @reject@
 -- is stated, @runtime-error@ when an error code is stated, else @ok@.
