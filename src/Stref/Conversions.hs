@@ -10,12 +10,14 @@ module Stref.Conversions
   , lookupConversionFunction
   , implicitConversion
   , convert
+  , convertAny
   ) where
 
 import Data.Char (toUpper)
 import Data.List (find)
 import Data.Text (Text)
 import qualified Data.Text as T
+import Stref.Numeric
 import Stref.Policy
 import Stref.Types
 import Stref.Values
@@ -91,8 +93,64 @@ implicitConversion policy f t = case policy of
              )
 
 -- | The run-time meaning of a conversion (Table 4-6 rows C01-C53; identity
--- when the types agree). STUB: owned by the numeric work.
+-- when the types agree), under the @real-to-int@ and @narrow-int@ policies.
+-- Conversions never touch INTERNAL_OVERFLOW (MT-CONV-14). The source is the
+-- value's own type; the first argument only documents the call site.
+--
+-- The pairs missing from the table (REAL to BYTE, USINT, DWORD) get the
+-- ANY_TO semantics of decision A8 / MT-CONV-7: through DINT, like C51.
 convert :: Policies -> BasicType -> BasicType -> Value -> Value
-convert _ f t v
-  | f == t = v
-  | otherwise = defaultValue t
+convert p _ target v = convertAny p target v
+
+-- | @ANY_TO_<target>@ (MT-CONV-8): the row of Table 4-6 for the argument's
+-- type, the identity for the same type, and for REAL to BYTE, USINT or DWORD
+-- the conversion to DINT followed by DINT to the target (A8, MT-CONV-7).
+convertAny :: Policies -> BasicType -> Value -> Value
+convertAny p target v
+  | valueType v == target = v
+  | otherwise = case v of
+      VBool b -> integerToValue target (if b then 1 else 0) -- C01-C07
+      VReal r -> fromReal r
+      _ -> maybe v fromInteger' (valueToInteger v)
+  where
+    -- C08, C15, C22, C29, C36, C43: zero is FALSE, anything else TRUE.
+    fromInteger' n = case target of
+      BOOL -> VBool (n /= 0)
+      REAL -> VReal (roundToReal (fromInteger n)) -- C14, C21, C28, C35, C42, C49
+      _
+        -- C16, C17, C23-C26, C37, C38, C44-C47: a narrower target keeps the
+        -- low bits, or saturates under narrow-int=saturate.
+        | typeBits target < typeBits (valueType v) -> integerToValue target (narrow n)
+        -- Same width (C09, C18, C27, C30, C39, C48): the same bits. Wider
+        -- (C10-C13, C19, C20, C31-C34, C40, C41): the value, sign-extended
+        -- for INT and DINT (C40), i.e. again the low bits of the value.
+        | otherwise -> integerToValue target n
+    narrow n = case pNarrowInt p of
+      NarrowWrap -> wrapTo target n
+      NarrowSaturate -> clampTo target n
+    fromReal r = case target of
+      BOOL -> VBool (r /= 0) -- C50: -0.0 is FALSE, NaN is TRUE (not zero)
+      INT -> VInt (fromInteger (realToInteger (pRealToInt p) INT r)) -- C52
+      DINT -> VDInt (fromInteger (realToInteger (pRealToInt p) DINT r)) -- C53
+      -- C51 (WORD), and A8 for BYTE, USINT, DWORD: through DINT.
+      _ -> convertAny p target (VDInt (fromInteger (realToInteger (pRealToInt p) DINT r)))
+
+-- | REAL to INT or DINT (MT-CONV-9, C52, C53), per @real-to-int@: the
+-- integer part (truncation toward zero) or the nearest integer with ties to
+-- even, then clamped to the type's range or wrapped modulo 2^n. NaN gives 0.
+-- Infinities give the limit of their sign when saturating, and 0 when
+-- wrapping (every binary32 from 2^55 up is a multiple of 2^32, so that is
+-- the limit of the wrapped values).
+realToInteger :: RealToInt -> BasicType -> Float -> Integer
+realToInteger policy t r = case realToRational r of
+  Nothing
+    | isRealNaN r -> 0
+    | otherwise -> case policy of
+        RoundEvenWrap -> 0
+        _ -> clampTo t (if r > 0 then hugeInteger else negate hugeInteger)
+  Just q -> case policy of
+    TruncateSaturate -> clampTo t (truncate q)
+    RoundEvenSaturate -> clampTo t (round q)
+    RoundEvenWrap -> wrapTo t (round q)
+  where
+    hugeInteger = 2 ^ (200 :: Int)

@@ -24,6 +24,7 @@ module Stref.Diagnostics
   , trapDivisionByZero
   , trapIndex
   , errModZero
+  , errOperandTypes
   , describeErrorCode
   , noErrorBand
   , errorBand
@@ -78,6 +79,12 @@ trapDivisionByZero = 9002
 trapIndex = 9003
 errModZero = 9004 -- the @error@ alternative of @mod-zero@
 
+-- | An operator applied to values whose types the checker should have
+-- rejected (e.g. MOD on REAL, unary minus on USINT): never produced for a
+-- checked program; it reports a defect of stref itself, not of the program.
+errOperandTypes :: ErrorCode
+errOperandTypes = 9005
+
 describeErrorCode :: ErrorCode -> Text
 describeErrorCode = \case
   2000 -> "access to an operand the configuration does not declare"
@@ -100,6 +107,7 @@ describeErrorCode = \case
   9002 -> "division by zero (trap policy)"
   9003 -> "array index out of range (trap policy)"
   9004 -> "MOD by zero (error policy)"
+  9005 -> "internal error: operator applied to operands of the wrong types"
   _ -> "unknown error code"
 
 -- | MT-DIAG-4: the band after a call without error.
