@@ -245,11 +245,12 @@ data Scope = Scope
   { scVars :: [(Text, BasicType)] -- ^ readable scalar variables
   , scFlag :: Bool -- ^ may read INTERNAL_OVERFLOW
   , scFunctions :: [(Text, BasicType, [BasicType])] -- ^ callable functions: name, result, parameters
+  , scNegativeReals :: Bool -- ^ may write negative REAL literals such as @-1.5@ (MT-LEX-14)
   }
   deriving (Show)
 
 emptyScope :: Scope
-emptyScope = Scope [] False []
+emptyScope = Scope [] False [] True
 
 -- | Table 4-15 (MT-CONST-2, MT-CONST-4): the integer literals a type admits.
 literalRange :: BasicType -> (Integer, Integer)
@@ -275,6 +276,16 @@ genLiteral = \case
     base <- if n < 0 then pure 10 else frequency [(6, pure 10), (2, pure 16), (1, pure 2), (1, pure 8)]
     pure (LitInt n base)
 
+-- | A literal as the scope allows it; @-0.0@ is never written as a literal.
+scopedLiteral :: Scope -> BasicType -> Gen Lit
+scopedLiteral sc t = fix <$> genLiteral t
+  where
+    fix = \case
+      LitReal r
+        | r == 0 -> LitReal 0
+        | r < 0 && not (scNegativeReals sc) -> LitReal (negate r)
+      l -> l
+
 -- | Is a literal definite, i.e. does it fix its own type? Integer literals
 -- take the type of their context (MT-CONST-1); REAL and BOOL ones do not.
 isIntLiteral :: TExpr -> Bool
@@ -289,6 +300,15 @@ isLiteral = \case
   TLit {} -> True
   _ -> False
 
+-- | A numeric literal: its type is open until the context fixes it (the
+-- checker's reading of MT-CONST-1 and A11), so two of them never meet and
+-- one never sits next to a widened operand (MT-CONST-3).
+isOpenLit :: TExpr -> Bool
+isOpenLit = \case
+  TLit _ (LitInt _ _) -> True
+  TLit _ (LitReal _) -> True
+  _ -> False
+
 isWidened :: TExpr -> Bool
 isWidened = \case
   TWiden {} -> True
@@ -299,7 +319,7 @@ isWidened = \case
 genExpr :: Scope -> BasicType -> Gen TExpr
 genExpr sc t = sized $ \n ->
   frequency $
-    [(1, TLit t <$> genLiteral t)]
+    [(1, TLit t <$> scopedLiteral sc t)]
       ++ [(4, genExactSized sc t (min n 12))]
       ++ [(1, widened sc t (min n 12)) | not (null (widensTo t))]
 
@@ -324,11 +344,11 @@ genExactSized sc t n
       oneof $
         [elements vars | not (null vars)]
           ++ [pure TFlag | t == BOOL, scFlag sc]
-          ++ [TLit t <$> genLiteral t | t `elem` [BOOL, REAL]]
+          ++ [TLit t <$> scopedLiteral sc t | t `elem` [BOOL, REAL]]
           ++ [conversionOfLiteral]
     conversionOfLiteral = do
       row <- elements [r | r <- conversionTable, crTo r == t]
-      TConv (crFrom row) t . TLit (crFrom row) <$> genLiteral (crFrom row)
+      TConv (crFrom row) t . TLit (crFrom row) <$> scopedLiteral sc (crFrom row)
     isArith = t `elem` [USINT, INT, DINT, REAL]
     isBits = t `elem` [BOOL, BYTE, WORD, DWORD]
     calls = [(f, ps) | (f, r, ps) <- scFunctions sc, r == t]
@@ -354,10 +374,10 @@ genExactSized sc t n
     convNode = do
       row <- elements [r | r <- conversionTable, crTo r == t]
       let s = crFrom row
-      arg <- frequency [(3, genExactSized sc s m), (1, TLit s <$> genLiteral s)]
+      arg <- frequency [(3, genExactSized sc s m), (1, TLit s <$> scopedLiteral sc s)]
       pure (TConv s t arg)
     exptNode = do
-      base <- genExactSized sc t m
+      base <- genExactSized sc t m `suchThat` (not . isLiteral)
       ex <-
         frequency
           [ (3, TLit USINT . (`LitInt` 10) <$> frequency [(4, choose (0, 5)), (2, choose (6, 40)), (1, pure 255)])
@@ -373,16 +393,19 @@ genExactSized sc t n
 operands :: Scope -> BasicType -> Int -> Gen (TExpr, TExpr)
 operands sc s m = do
   let exact = genExactSized sc s m
-      lit = TLit s <$> genLiteral s
+      lit = TLit s <$> scopedLiteral sc s
       wide = widened sc s m
+      -- MT-CONST-3: no REAL literal next to a widened INT
+      exactNoLit = exact `suchThat` (not . isLiteral)
+      ok (a, b) = not (isOpenLit a && isOpenLit b)
       canWiden = not (null (widensTo s))
       intLit = s /= BOOL
-  frequency $
+  (`suchThat` ok) . frequency $
     [(4, (,) <$> exact <*> exact)]
       ++ [(2, (,) <$> exact <*> lit) | intLit]
       ++ [(1, (,) <$> lit <*> exact) | intLit]
-      ++ [(1, (,) <$> exact <*> wide) | canWiden]
-      ++ [(1, (,) <$> wide <*> exact) | canWiden]
+      ++ [(1, (,) <$> exactNoLit <*> wide) | canWiden]
+      ++ [(1, (,) <$> wide <*> exactNoLit) | canWiden]
 
 -- | The typing discipline above, as a predicate (used to keep shrinks well
 -- typed). Scope is not checked: shrinking never adds a name.
@@ -398,7 +421,7 @@ wellFormed = \case
   TArith op t a b -> isAnyNum t && (op /= OpMod || t /= REAL) && pair t a b
   TCmp op s a b -> (isAnyNum s || op `elem` [OpEq, OpNe]) && pair s a b
   TLogic _ t a b -> t `elem` [BOOL, BYTE, WORD, DWORD] && pair t a b
-  TExpt t b e -> isAnyNum t && exact t b && (exact USINT e || (isIntLiteral e && texprType e == USINT)) && wellFormed e
+  TExpt t b e -> isAnyNum t && exact t b && not (isLiteral b) && (exact USINT e || (isIntLiteral e && texprType e == USINT)) && wellFormed e
   TCall _ _ args -> all wellFormed args
   where
     lookupRow s t = case [r | r <- conversionTable, crFrom r == s, crTo r == t] of
@@ -408,10 +431,11 @@ wellFormed = \case
     operand s e = texprType e == s && wellFormed e
     pair s a b =
       operand s a && operand s b
-        && not (isIntLiteral a && isIntLiteral b)
+        && not (isOpenLit a && isOpenLit b)
         && not (isWidened a && isWidened b)
-        && not (isIntLiteral a && isWidened b)
-        && not (isWidened a && isIntLiteral b)
+        -- MT-CONST-3: a REAL literal next to a widened INT is rejected
+        && not (isOpenLit a && isWidened b)
+        && not (isWidened a && isOpenLit b)
     litOk t = \case
       LitInt n _ -> let (lo, hi) = literalRange t in t /= BOOL && n >= lo && n <= hi
       LitReal _ -> t == REAL
@@ -517,11 +541,12 @@ data GenConfig = GenConfig
   , gcTypeMaxFor :: Bool -- ^ allow FOR loops that end at the type's maximum (policy for-at-type-max)
   , gcShadowing :: Bool -- ^ declare program locals with globals' names (policy name-resolution)
   , gcFlag :: Bool -- ^ read INTERNAL_OVERFLOW in the program
+  , gcNegativeReals :: Bool -- ^ write negative REAL literals
   }
   deriving (Show)
 
 defaultGenConfig :: GenConfig
-defaultGenConfig = GenConfig {gcFunctions = 3, gcStatements = 5, gcTypeMaxFor = False, gcShadowing = False, gcFlag = True}
+defaultGenConfig = GenConfig {gcFunctions = 3, gcStatements = 5, gcTypeMaxFor = False, gcShadowing = False, gcFlag = True, gcNegativeReals = True}
 
 -- | Mapped globals: two of each type, at operands of the default
 -- configuration (defaultPlcConfig), none aliasing another.
@@ -554,6 +579,7 @@ data Ctx = Ctx
   , cxTargets :: [(Text, BasicType)] -- ^ writable variables
   , cxInLoop :: Bool
   , cxLoopDepth :: Int
+  , cxNesting :: Int -- ^ depth of compound statements
   , cxPrefix :: Text -- ^ for fresh names of loop variables
   , cxConfig :: GenConfig
   }
@@ -582,10 +608,11 @@ genModule cfg = do
       outputs = [("OUTPUT" <> T.pack (show i), BOOL) | i <- [1 .. 3 :: Int]]
       ctx =
         Ctx
-          { cxScope = Scope (readable ++ signals) (gcFlag cfg) funSigs
+          { cxScope = Scope (readable ++ signals) (gcFlag cfg) funSigs (gcNegativeReals cfg)
           , cxTargets = readable ++ outputs
           , cxInLoop = False
           , cxLoopDepth = 0
+          , cxNesting = 0
           , cxPrefix = "P"
           , cxConfig = cfg
           }
@@ -614,10 +641,11 @@ genFunctions cfg globals n = go 0 []
           let readable = globals ++ params ++ [(lvName l, lvType l) | l <- locals]
               ctx =
                 Ctx
-                  { cxScope = Scope readable False earlier
+                  { cxScope = Scope readable False earlier (gcNegativeReals cfg)
                   , cxTargets = [(lvName l, lvType l) | l <- locals]
                   , cxInLoop = False
                   , cxLoopDepth = 0
+                  , cxNesting = 0
                   , cxPrefix = name <> "_"
                   , cxConfig = cfg
                   }
@@ -642,19 +670,23 @@ genStmt ctx =
   frequency $
     [(6, assign)]
       ++ [(1, callStmt) | not (null (scFunctions sc))]
-      ++ [(2, ifStmt)]
-      ++ [(1, caseStmt)]
+      ++ [(2, ifStmt) | shallow]
+      ++ [(1, caseStmt) | shallow]
       ++ [(1, forStmt) | deep]
       ++ [(1, whileStmt) | deep]
       ++ [(1, repeatStmt) | deep]
       ++ [(1, pure GEmpty)]
   where
     sc = cxScope ctx
-    deep = cxLoopDepth ctx < 2
+    deep = cxLoopDepth ctx < 2 && shallow
+    shallow = cxNesting ctx < 3
     arm :: Int -> Ctx
     arm i = ctx {cxPrefix = cxPrefix ctx <> "A" <> T.pack (show i) <> "_"}
     nested = ctx {cxLoopDepth = cxLoopDepth ctx + 1, cxInLoop = True}
-    smallBody c = resize 2 (genBody c {cxConfig = (cxConfig c) {gcStatements = min 3 (gcStatements (cxConfig c))}} True)
+    smallBody c = smallBodyEnding c True
+    -- a WHILE or REPEAT body is followed by its counter's increment, so it
+    -- may not end with EXIT or RETURN itself (MT-STMT-22)
+    smallBodyEnding c final = resize 2 (genBody c {cxNesting = cxNesting c + 1, cxConfig = (cxConfig c) {gcStatements = min 3 (gcStatements (cxConfig c))}} final)
     assign = do
       (v, t) <- elements (cxTargets ctx)
       GAssign v t <$> scaled (genExpr sc t)
@@ -684,12 +716,12 @@ genStmt ctx =
       let c = cxPrefix ctx <> "WC"
       k <- choose (0, 4)
       cond <- scaled (genExactExpr sc BOOL)
-      GWhile c k cond <$> smallBody nested
+      GWhile c k cond <$> smallBodyEnding nested False
     repeatStmt = do
       let c = cxPrefix ctx <> "RC"
       k <- choose (1, 4)
       cond <- scaled (genExactExpr sc BOOL)
-      GRepeat c k cond <$> smallBody nested
+      GRepeat c k cond <$> smallBodyEnding nested False
     genForBounds t = do
       let typeMax = if t == USINT then 255 else 32767
       atMax <- if gcTypeMaxFor (cxConfig ctx) then frequency [(1, pure True), (2, pure False)] else pure False
