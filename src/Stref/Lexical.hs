@@ -56,7 +56,7 @@ import Text.Megaparsec hiding (Pos)
 import Text.Megaparsec.Char (char, string)
 
 -- | A lexical or syntax problem with its stable kind.
-data Issue = Issue {issueKind :: Text, issueMessage :: Text}
+data Issue = Issue {issueKind :: Text, issueMessage :: Text, issueOffset :: Int}
   deriving (Eq, Ord, Show)
 
 instance ShowErrorComponent Issue where
@@ -68,9 +68,13 @@ data Env = Env {envPolicies :: Policies, envDepth :: Int}
 
 type Parser = ParsecT Issue Text (Reader Env)
 
--- | Fail with a stable kind at a given offset.
+-- | Fail with a stable kind, reporting the given offset (usually the start
+-- of the offending token). Megaparsec sees the error at the current offset,
+-- so that it wins over the errors of alternatives that stopped earlier.
 failAt :: Int -> Text -> Text -> Parser a
-failAt off kind msg = parseError (FancyError off (Set.singleton (ErrorCustom (Issue kind msg))))
+failAt off kind msg = do
+  here <- getOffset
+  parseError (FancyError (max off here) (Set.singleton (ErrorCustom (Issue kind msg off))))
 
 getPos :: Parser Pos
 getPos = do
@@ -96,8 +100,10 @@ nested p = do
 ------------------------------------------------------------------------------
 -- White space and comments (MT-LEX-7, MT-LEX-8)
 
+-- | White space: space, tab and line breaks (MT-LEX-7), and the byte-order
+-- mark that editors on Windows put at the start of a file.
 isBlank :: Char -> Bool
-isBlank c = c == ' ' || c == '\t' || c == '\n' || c == '\r'
+isBlank c = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\xFEFF'
 
 -- | Characters that may start or continue a token outside comments.
 legalChar :: Char -> Bool
@@ -113,11 +119,12 @@ isWordChar c = isWordStart c || isDigit c
 -- start a token (MT-VERR-1).
 sc :: Parser ()
 sc = do
-  skipMany (void (takeWhile1P Nothing isBlank) <|> comment)
+  hidden (skipMany (void (takeWhile1P Nothing isBlank) <|> comment))
   off <- getOffset
   next <- optional (lookAhead anySingle)
   case next of
-    Just '#' -> failAt off "invalid-symbol" "'#' must follow the base of a number (2#, 8# or 16#)" -- MT-LEX-11
+    -- MT-LEX-11: '#' can only follow a base (2#, 8#, 16#); alone it starts nothing
+    Just '#' -> failAt off "invalid-char" "the character '#' is not part of the language here: it can only follow the base of a number (2#, 8# or 16#)"
     Just c
       | not (legalChar c) ->
           failAt off "invalid-char" ("the character " <> describeChar c <> " is not part of the language") -- MT-LEX-15
@@ -135,13 +142,17 @@ comment = do
   off <- getOffset
   _ <- string "(*"
   nesting <- asks (pNestedComments . envPolicies)
-  let loop :: Int -> Parser ()
+  let loop, loopStep :: Int -> Parser ()
       loop d = do
         _ <- takeWhileP Nothing (\c -> c /= '*' && c /= '(')
+        finished <- atEnd
+        if finished
+          then failAt off "comment-not-closed" "this comment is not closed with *) before the end of the file" -- MT-VERR-3
+          else loopStep d
+      loopStep d =
         choice
           [ string "*)" >> (if d <= 1 then pure () else loop (d - 1))
           , if nesting == Nesting then string "(*" >> loop (d + 1) else empty
-          , eof >> failAt off "comment-not-closed" "this comment is not closed with *) before the end of the file" -- MT-VERR-3
           , anySingle >> loop d
           ]
   loop 1
@@ -152,9 +163,13 @@ lexeme p = p <* sc
 -- | A punctuation symbol; @:@ does not match the start of @:=@, @<@ not that
 -- of @<=@ or @<>@, and so on.
 symbol :: Text -> Parser ()
-symbol s = lexeme (void (try (string s <* notFollowedBy (satisfy (continues s))))) <?> ("'" <> T.unpack s <> "'")
+symbol s = label ("'" <> T.unpack s <> "'") $ do
+  here <- hidden (optional (try (lookAhead (string s <* notFollowedBy (satisfy continues)))))
+  case here of
+    Just _ -> string s >> sc
+    Nothing -> empty
   where
-    continues t c = case t of
+    continues c = case s of
       ":" -> c == '='
       "<" -> c == '=' || c == '>'
       ">" -> c == '='
@@ -174,14 +189,18 @@ peekWord = optional (lookAhead (T.toUpper <$> rawWord))
 
 -- | A keyword, case-insensitive (MT-LEX-5).
 keyword :: Text -> Parser ()
-keyword k = lexeme (void (try (rawWord >>= \w -> if T.toUpper w == k then pure () else empty))) <?> T.unpack k
+keyword k = label (T.unpack k) $ do
+  w <- lookAhead rawWord
+  if T.toUpper w == k then rawWord >> sc else empty
 
 ------------------------------------------------------------------------------
 -- Reserved words (MT-LEX-17)
 
 -- | Words that are never names. The PT list of the manual's appendix, less
 -- the type names, the standard function names and the predeclared signals
--- (listed separately below). Two deliberate omissions: the SFC action
+-- (listed separately below). The printed typos VAR_ACESS and "RESOURCE ON
+-- END_REPEAT" are read as VAR_ACCESS (both spellings reserved) and
+-- END_RESOURCE. Two deliberate omissions: the SFC action
 -- qualifiers N R S L D P SD DS SL LD ST (the manual's own IF example declares
 -- a variable D), and END (decision A30). ELSEIF is added by policy (A1).
 keywords :: Set.Set Text
@@ -195,7 +214,7 @@ keywords =
     , "END_FUNCTION_BLOCK", "PROGRAM", "WITH", "END_PROGRAM", "READ_ONLY"
     , "READ_WRITE", "RESOURCE", "ON", "END_RESOURCE", "RETAIN", "STRUCT", "END_STRUCT", "TASK"
     , "TYPE", "END_TYPE", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_EXTERNAL", "VAR_ACESS"
-    , "VAR_ACCESS", "VAR_GLOBAL", "JMP", "CAL", "RET", "ACTION", "END_ACTION", "INITIAL_STEP"
+    , "VAR_ACCESS", "JMP", "CAL", "RET", "ACTION", "END_ACTION", "INITIAL_STEP"
     , "END_STEP", "STEP", "TRANSITION", "FROM", "END_TRANSITION"
     , "BOOL", "BYTE", "WORD", "DWORD", "USINT", "INT", "DINT", "REAL"
     ]
@@ -205,7 +224,7 @@ unsupportedTypeNames :: Set.Set Text
 unsupportedTypeNames =
   Set.fromList
     [ "SINT", "UINT", "UDINT", "LINT", "ULINT", "LWORD", "LREAL", "TIME", "DATE"
-    , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "WSTRING", "ANY", "ANY_NUM"
+    , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "ANY", "ANY_NUM"
     , "ANY_REAL", "ANY_INT", "ANY_BIT", "ANY_DATE"
     ]
 
@@ -219,7 +238,7 @@ standardFunctionNames =
     [ "ABS", "SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"
     , "SEL", "MAX", "MIN", "MIM", "LIMIT", "MUX", "LEFT", "RIGHT", "MID", "CONCAT"
     , "INSERT", "DELETE", "REPLACE", "LEN", "FIND", "ADD", "MUL", "DIV", "EXPT", "MOVE"
-    , "SHL", "SHR", "ROR", "ROL", "GT", "GE", "EQ", "LE", "LT", "NE", "TRUNC", "SUB"
+    , "SHL", "SHR", "ROR", "ROL", "GT", "GE", "EQ", "LE", "LT", "NE", "TRUNC"
     ]
 
 -- | Reserved names that denote predeclared variables: the module signals
@@ -273,6 +292,8 @@ name :: NameUse -> Parser (Pos, Ident)
 name use = label "a name" $ do
   pos <- getPos
   off <- getOffset
+  -- a malformed number where a name is expected is an invalid symbol
+  _ <- hidden (optional (lookAhead (satisfy isDigit) *> lookAhead numberLiteral))
   policies <- asks envPolicies
   w <- try (lookAhead rawWord >>= \w -> if classifyWord policies (T.toUpper w) == WKeyword then empty else pure w)
   _ <- rawWord
@@ -290,7 +311,7 @@ name use = label "a name" $ do
     (WUnsupportedType, _) -> reserved "a reserved type name"
     (WInternal, _) -> reserved "reserved (names starting with INTERNAL_ belong to the controller)"
     (WStandardFunction, DeclName) -> reserved "the reserved name of a standard function"
-    (WStandardFunction, VarName) | not callFollows -> reserved "the reserved name of a standard function"
+    (WStandardFunction, _) | not callFollows -> reserved "the reserved name of a standard function"
     (WPredeclared, DeclName) -> reserved "a predeclared variable"
     _ -> pure ()
   pure (pos, Ident w)
@@ -439,6 +460,13 @@ operandRef = label "a PLC operand such as %M0010" $ do
       , Position . readDigits 10 <$> (char '[' *> sc *> lexeme (takeWhile1P (Just "a table position") isDigit) <* char ']')
       , pure NoSub
       ]
+  -- a bit of a table position (%TM0010[2].1) cannot be written in ST
+  bitAfterPosition <- hidden (optional (lookAhead (char '.')))
+  case (sub, bitAfterPosition) of
+    (Position _, Just _) -> do
+      whole <- wordAt (off + 1)
+      failAt off "invalid-operand" ("'%" <> whole <> "...' is not a PLC operand: a table position has no bits")
+    _ -> pure ()
   sc
   pure (pos, OperandRef (T.toUpper letters) (readDigits 10 address) sub)
 
