@@ -9,11 +9,12 @@ import System.Environment (getArgs, getProgName)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
+import qualified Cmd.Check
 import qualified Cmd.Explore
 import qualified Cmd.Parse
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty <> Cmd.Parse.command <> Cmd.Explore.command
+commands = mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Explore.command
 
 main :: IO ()
 main = do

@@ -218,15 +218,15 @@ canWrite r = r `notElem` [RoleConstant, RoleInput, RoleSignalIn, RoleOverflow]
 
 roleWord :: Role -> Text
 roleWord = \case
-  RoleVar -> "variable"
-  RoleConstant -> "CONSTANT"
-  RoleInput -> "VAR_INPUT parameter"
-  RoleInOut -> "VAR_IN_OUT parameter"
-  RoleOutput -> "VAR_OUTPUT parameter"
-  RoleSignalIn -> "module input signal"
-  RoleSignalOut -> "module output signal"
-  RoleOverflow -> "overflow flag"
-  RoleResult -> "function result"
+  RoleVar -> "a variable"
+  RoleConstant -> "a CONSTANT"
+  RoleInput -> "a VAR_INPUT parameter"
+  RoleInOut -> "a VAR_IN_OUT parameter"
+  RoleOutput -> "a VAR_OUTPUT parameter"
+  RoleSignalIn -> "a module input signal"
+  RoleSignalOut -> "a module output signal"
+  RoleOverflow -> "the overflow flag"
+  RoleResult -> "the function's result"
 
 tshow :: Show a => a -> Text
 tshow = T.pack . show

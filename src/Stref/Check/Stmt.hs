@@ -24,10 +24,9 @@ import Stref.Values
 -- never run (MT-STMT-22, MT-VERR-16).
 checkStmts :: [Stmt Pos] -> Check [CStmt]
 checkStmts ss = do
-  case dropWhile (not . isJump) ss of
-    (_ : rest) | (s : _) <- filter (not . isEmpty) rest ->
-      report "unreachable-code" (stmtAnn s) "this code can never run: it follows a RETURN or EXIT in the same statement list"
-    _ -> pure ()
+  let statements = filter (not . isEmpty) ss
+      afterJumps = [s | (j, s) <- zip statements (drop 1 statements), isJump j]
+  mapM_ (\s -> report "unreachable-code" (stmtAnn s) "this code can never run: it follows a RETURN or EXIT in the same statement list") afterJumps
   catMaybes <$> mapM checkStmt ss
   where
     isJump = \case
@@ -126,7 +125,7 @@ checkTarget = \case
 writable :: Pos -> Ident -> VarSym -> Check Bool
 writable pos name vs
   | not (canWrite (vsRole vs)) = do
-      report "write-not-allowed" pos (identText name <> " is a " <> roleWord (vsRole vs) <> " and cannot be written")
+      report "write-not-allowed" pos (identText name <> " is " <> roleWord (vsRole vs) <> " and cannot be written")
       pure False
   | otherwise = do
       fors <- asks envForVars
@@ -201,7 +200,7 @@ checkFor pos vpos name start end step body = do
                 pure Nothing
             | Basic t <- varType v, t `elem` [USINT, INT] ->
                 if not (canRead (vsRole vs))
-                  then Nothing <$ report "read-not-allowed" vpos (identText name <> " is a " <> roleWord (vsRole vs) <> " and cannot be read")
+                  then Nothing <$ report "read-not-allowed" vpos (identText name <> " is " <> roleWord (vsRole vs) <> " and cannot be read")
                   else pure (if ok then Just (v, t) else Nothing)
             | otherwise -> do
                 report "invalid-for-variable" vpos ("the FOR control variable " <> identText name <> " must be USINT or INT") -- MT-STMT-16
