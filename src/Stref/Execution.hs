@@ -30,6 +30,9 @@ module Stref.Execution
   , CallResult (..)
   , runCall
   , runCalls
+  , CompiledModule
+  , compileModule
+  , runCompiled
   , checkMappedOperands
   , checkChfParameters
   , ParamSource (..)
@@ -97,6 +100,8 @@ runCalls pol cfg cm inputs st0 = go st0 inputs
 runCall :: Policies -> PlcConfig -> CModule -> CallInput -> PlcState -> (PlcState, CallResult)
 runCall pol cfg cm = runCompiled pol cfg cm (compileModule pol cm)
 
+-- | 'runCall' with a module translated beforehand by 'compileModule' under
+-- the same policies (for many calls of one module).
 runCompiled :: Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
 runCompiled pol cfg cm compiled ci st
   | not input1 =

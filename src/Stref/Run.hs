@@ -34,11 +34,11 @@ import qualified Data.Text as T
 import Data.Word (Word32)
 import Stref.Check (checkModule)
 import Stref.Checked
-import Stref.Conversions (implicitConversion)
+import Stref.Conversions (ConversionFunction (..), lookupConversionFunction)
 import Stref.Execution
 import Stref.Operands
 import Stref.Policy
-import Stref.Syntax (Module, Pos)
+import Stref.Syntax (Expr (..), Ident (..), Module, Pos)
 import Stref.Syntax.Parser (parseExpression, parseModule)
 import Stref.Types
 import Stref.Values
@@ -170,17 +170,23 @@ checked pol kind m = either (Left . Rejected) Right (checkModule pol kind m)
 -- | Run the calls of a checked module, in order.
 runModule :: RunSetup -> CModule -> [CallSpec] -> Either RunFailure RunOutcome
 runModule setup cm calls = do
+  mapM_ declared (rsInit setup ++ concatMap csSet calls)
   mem0 <- either (Left . BadSetting) Right (applySettings (rsInit setup) emptyMemory)
   let st0 = initialPlcState {psMemory = mem0}
       go st [] = Right (st, [])
       go st (c : rest) = do
         mem <- either (Left . BadSetting) Right (applySettings (csSet c) (psMemory st))
         let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
-            (st', r) = runCall (rsPolicies setup) (rsPlc setup) cm ci st {psMemory = mem}
+            (st', r) = runCompiled (rsPolicies setup) (rsPlc setup) cm compiled ci st {psMemory = mem}
         (stN, rs) <- go st' rest
         pure (stN, r : rs)
   (final, results) <- go st0 calls
   pure (RunOutcome cm st0 results final)
+  where
+    compiled = compileModule (rsPolicies setup) cm
+    declared (o, _)
+      | cellDeclared (rsPlc setup) (operandCell o) = Right ()
+      | otherwise = Left (BadSetting (renderOperand o <> " is not declared in the controller's configuration"))
 
 -- | Parse, check and run.
 runSource :: RunSetup -> FilePath -> Text -> [CallSpec] -> Either RunFailure RunOutcome
@@ -204,6 +210,7 @@ data SnippetResult = SnippetResult
   , srType :: Maybe BasicType -- ^ of a bare expression
   , srResult :: CallResult
   }
+  deriving (Eq, Show)
 
 -- | The name of the variable that receives a bare expression's value.
 resultName :: Text
@@ -213,22 +220,31 @@ resultName = "EVAL_RESULT"
 -- wrapper keeps the snippet's first line on line 1, so line numbers in
 -- messages are the snippet's own.
 --
--- A bare expression has no declared type: it is assigned to a result
--- variable of each basic type in turn, and the type reported is the least
--- one the checker accepts (a type that some other accepted type converts to
--- implicitly is not least). A literal-only expression is accepted by several
--- unrelated types; then the first of INT, DINT, DWORD, REAL, BOOL, WORD,
--- BYTE, USINT that is accepted wins (decision A11).
+-- A bare expression has no declared type, so it is assigned to a result
+-- variable whose type is found by trying: a call of a conversion function
+-- has its target type; otherwise the first of INT, DINT, DWORD, REAL, BOOL,
+-- WORD, BYTE, USINT that the checker accepts without converting the value
+-- (literals take the type of their context, decision A11), or failing that
+-- the first it accepts at all.
 evalSnippet :: Policies -> Text -> Either (Text, RunFailure) SnippetResult
 evalSnippet pol snippet = case parseExpression pol snippet of
-  Right _ -> do
-    let attempts = [(t, wrapExpression t) | t <- priority]
-        accepted = [(t, src, cm) | (t, src) <- attempts, Right cm <- [compileSource pol ProcedureModule "<eval>" src]]
-        edge s t = s /= t && implicitConversion (pImplicitConversions pol) s t
-        least = [a | a@(t, _, _) <- accepted, not (any (\(s, _, _) -> edge s t) accepted)]
-        chosen = case least of
-          [one] -> Just one
-          _ -> find (const True) accepted
+  Right e -> do
+    let conversionTarget = case e of
+          ECall _ (Ident f) _ -> case lookupConversionFunction f of
+            Just (Explicit _ t) -> Just t
+            Just (AnyTo t) -> Just t
+            Nothing -> Nothing
+          _ -> Nothing
+        order = maybe priority (: priority) conversionTarget
+        accepted = [(t, src, cm) | t <- order, let src = wrapExpression t, Right cm <- [compileSource pol ProcedureModule "<eval>" src]]
+        unconverted (t, _, cm) = case cpBody (cmProgram cm) of
+          [SAssign _ _ (CConv _ to _)] -> to /= t
+          _ -> True
+        chosen = case (conversionTarget, accepted) of
+          (Just t, a@(t', _, _) : _) | t == t' -> Just a
+          _ -> case filter unconverted accepted of
+            a : _ -> Just a
+            [] -> find (const True) accepted
     case chosen of
       Just (t, src, cm) -> Right (SnippetResult (Snippet True src) (Just t) (runOne cm))
       Nothing ->
