@@ -552,7 +552,7 @@ parseCase file origin knownRule src = do
 -- | @expect.operands.%M0012: @ for messages.
 describePath :: Path -> Text
 describePath [] = ""
-describePath p = T.intercalate "." p <> ": "
+describePath (k : ks) = k <> T.concat [if "[" `T.isPrefixOf` x then x else "." <> x | x <- ks] <> ": "
 
 -- | The 0-based line (of the metadata text) where a path's last key is
 -- written: each key is looked for from the line of its parent on, so that
