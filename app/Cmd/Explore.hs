@@ -22,7 +22,7 @@ import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
 import System.Directory (createDirectoryIfMissing)
 import System.Exit
-import System.FilePath ((</>))
+import System.FilePath (takeFileName, (</>))
 import System.IO (hFlush, hPutStrLn, stderr, stdout)
 import Stref.Checked (ArithOp (..))
 import Stref.Conformance.Runner (EngineSpec (..), RunOptions (..), askEngine, defaultRunOptions)
@@ -169,11 +169,17 @@ againstEngine o reference seed cmd = do
       forM_ (optOut o) $ \dir -> do
         createDirectoryIfMissing True dir
         let file = dir </> ("explore-" <> show s <> ".st")
-        TIO.writeFile file (corpusCase s small refSummary (T.pack cmd) engineSummary)
+        TIO.writeFile file (corpusCase s small refSummary (engineLabel cmd) engineSummary)
         putStrLn ("written " <> file)
   n <- readIORef found
   putStrLn (show (optCount o) <> " programs, " <> show n <> " disagreement" <> (if n == 1 then "" else "s"))
   pure (if n == 0 then ExitSuccess else ExitFailure 1)
+
+-- | The engine's command without directories (no machine paths in cases).
+engineLabel :: String -> Text
+engineLabel cmd = case words cmd of
+  (exe : args) -> T.unwords (T.pack (takeFileName exe) : map T.pack args)
+  [] -> ""
 
 report :: GenModule -> Summary -> Text -> Summary -> IO ()
 report gm refS otherName otherS = do

@@ -161,9 +161,11 @@ summaryDifference a b
   | otherwise = case (a, b) of
       (SumRun o u e _, SumRun o' u' e' _)
         | e /= e' -> Just ("error " <> tshow e <> " vs " <> tshow e')
-        | ((k, x, y) : _) <- [(k, x, y) | ((k, x), (_, y)) <- zip o o', x /= y] -> Just (k <> ": " <> tshow x <> " vs " <> tshow y)
+        | ((k, x, y) : _) <- [(k, x, y) | ((k, x), (_, y)) <- zip o o', x /= y] -> Just (k <> ": " <> pat x <> " vs " <> pat y)
         | otherwise -> Just ("outputs " <> tshow u <> " vs " <> tshow u')
       _ -> Just "different verdicts"
+  where
+    pat = either id (\w -> "pattern " <> tshow w)
 
 tshow :: Show a => a -> Text
 tshow = T.pack . show

@@ -751,10 +751,22 @@ disjoint = go []
 shrinkGenModule :: GenModule -> [GenModule]
 shrinkGenModule gm =
   [gm {gmFunctions = fs} | fs <- dropUnusedFunction]
+    ++ [gm {gmMapped = vs, gmInputs = [(o, x) | (o, x) <- gmInputs gm, o `elem` map mvOperand vs]} | vs <- dropUnused mvName (gmMapped gm)]
+    ++ [gm {gmGlobals = ls} | ls <- dropUnused lvName (gmGlobals gm)]
+    ++ [gm {gmProgram = (gmProgram gm) {gpLocals = ls}} | ls <- dropUnused lvName (gpLocals (gmProgram gm))]
+    ++ [gm {gmFunctions = fs} | fs <- dropUnusedLocals (gmFunctions gm)]
     ++ [gm {gmProgram = (gmProgram gm) {gpBody = b}} | b <- shrinkBody False (gpBody (gmProgram gm))]
     ++ [gm {gmFunctions = fs} | fs <- shrinkFunctions (gmFunctions gm)]
     ++ [gm {gmInputs = is} | is <- shrinkInputs (gmInputs gm)]
   where
+    used = usedNames gm
+    -- all unused ones at once (one step), so that shrinking stays cheap
+    dropUnused name xs = [kept | let kept = filter ((`elem` used) . name) xs, length kept < length xs]
+    dropUnusedLocals = \case
+      [] -> []
+      (f : fs) ->
+        [f {gfLocals = ls} : fs | ls <- dropUnused lvName (gfLocals f)]
+          ++ map (f :) (dropUnusedLocals fs)
     dropUnusedFunction =
       [ take i fs ++ drop (i + 1) fs
       | let fs = gmFunctions gm
@@ -836,6 +848,32 @@ shrinkStmt = \case
     replaceAt i x xs = take i xs ++ [x] ++ drop (i + 1) xs
     exactDefinite t e = texprType e == t && not (isIntLiteral e) && not (isWidened e)
 
+-- | Every name read, written or called anywhere in the module.
+usedNames :: GenModule -> [Text]
+usedNames gm = nub (concatMap (concatMap stmtNames . gfBody) (gmFunctions gm) ++ concatMap stmtNames (gpBody (gmProgram gm)))
+  where
+    stmtNames = \case
+      GAssign v _ e -> v : exprNames e
+      GCall f args -> f : concatMap exprNames args
+      GIf arms els -> concat [exprNames c ++ concatMap stmtNames b | (c, b) <- arms] ++ maybe [] (concatMap stmtNames) els
+      GCase sel arms els -> exprNames sel ++ concatMap (concatMap stmtNames . snd) arms ++ maybe [] (concatMap stmtNames) els
+      GFor _ _ _ _ _ b -> concatMap stmtNames b
+      GWhile _ _ c b -> exprNames c ++ concatMap stmtNames b
+      GRepeat _ _ c b -> exprNames c ++ concatMap stmtNames b
+      _ -> []
+    exprNames = \case
+      TVar _ v -> [v]
+      TCall _ f args -> f : concatMap exprNames args
+      TWiden _ _ e -> exprNames e
+      TConv _ _ e -> exprNames e
+      TNeg _ e -> exprNames e
+      TNot _ e -> exprNames e
+      TArith _ _ a b -> exprNames a ++ exprNames b
+      TCmp _ _ a b -> exprNames a ++ exprNames b
+      TLogic _ _ a b -> exprNames a ++ exprNames b
+      TExpt _ a b -> exprNames a ++ exprNames b
+      _ -> []
+
 -- | Names of the functions called anywhere in the module.
 calledNames :: GenModule -> [Text]
 calledNames gm = concatMap (concatMap stmtCalls . gfBody) (gmFunctions gm) ++ concatMap stmtCalls (gpBody (gmProgram gm))
@@ -875,7 +913,7 @@ toModule :: GenModule -> Module ()
 toModule gm =
   Module
     { modGlobals =
-        [VarBlock () SecVar False (map mappedDecl (gmMapped gm))]
+        [VarBlock () SecVar False (map mappedDecl (gmMapped gm)) | not (null (gmMapped gm))]
           ++ [VarBlock () SecVar False (map localDecl (gmGlobals gm)) | not (null (gmGlobals gm))]
     , modFunctions = map function (gmFunctions gm)
     , modProgram =
