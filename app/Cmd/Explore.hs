@@ -205,7 +205,7 @@ corpusCase :: Int -> GenModule -> Summary -> Text -> Summary -> Text
 corpusCase s gm refS engineName engineS =
   T.unlines $
     [ "(*---"
-    , "description: found by stref explore (seed " <> tshow s <> "); the reference and the engine '" <> T.replace "'" "" engineName <> "' disagree on " <> fromMaybe "-" (summaryDifference refS engineS)
+    , "description: '" <> T.replace "'" "''" ("found by stref explore (seed " <> tshow s <> "); the reference and the engine (" <> engineName <> ") disagree on " <> fromMaybe "-" (summaryDifference refS engineS)) <> "'"
     , "rules: [" <> T.intercalate ", " (rulesOf gm) <> "]"
     , "features: [generated, unreviewed]"
     , "plc:"
