@@ -154,26 +154,44 @@ againstEngine o reference seed cmd = do
         e <- summarise gm <$> ask gm
         pure (e /= refOf gm, e)
   found <- newIORef (0 :: Int)
+  broken <- newIORef Nothing
+  let isEngineError = \case
+        SumEngineError _ -> True
+        _ -> False
+      -- a shrink step must keep a real disagreement, not an engine failure
+      stillDiffers gm = (\(bad, e) -> bad && not (isEngineError e)) <$> differs gm
   forM_ (programs o defaultGenConfig seed) $ \(s, gm) -> do
-    (bad, _) <- differs gm
-    when bad $ do
-      modifyIORef found (+ 1)
-      putStrLn ("program " <> show s <> ": the engine disagrees with the reference; shrinking ...")
-      hFlush stdout
-      (small, used) <- shrinkWith (optShrinkBudget o) (fmap fst . differs) gm
-      (_, engineSummary) <- differs small
-      let refSummary = refOf small
-      putStrLn ("shrunk in " <> show used <> " runs to:")
-      TIO.putStr (generatedSource small)
-      report small refSummary "engine" engineSummary
-      forM_ (optOut o) $ \dir -> do
-        createDirectoryIfMissing True dir
-        let file = dir </> ("explore-" <> show s <> ".st")
-        TIO.writeFile file (corpusCase s small refSummary (engineLabel cmd) engineSummary)
-        putStrLn ("written " <> file)
-  n <- readIORef found
-  putStrLn (show (optCount o) <> " programs, " <> show n <> " disagreement" <> (if n == 1 then "" else "s"))
-  pure (if n == 0 then ExitSuccess else ExitFailure 1)
+    stop <- readIORef broken
+    when (stop == Nothing) $ do
+      (bad, first) <- differs gm
+      if bad && isEngineError first
+        then writeIORef broken (Just (s, first))
+        else when bad $ do
+          modifyIORef found (+ 1)
+          putStrLn ("program " <> show s <> ": the engine disagrees with the reference; shrinking ...")
+          hFlush stdout
+          (small, used) <- shrinkWith (optShrinkBudget o) stillDiffers gm
+          (_, engineSummary) <- differs small
+          let refSummary = refOf small
+          putStrLn ("shrunk in " <> show used <> " runs to:")
+          TIO.putStr (generatedSource small)
+          report small refSummary "engine" engineSummary
+          forM_ (optOut o) $ \dir -> do
+            createDirectoryIfMissing True dir
+            let file = dir </> ("explore-" <> show s <> ".st")
+            TIO.writeFile file (corpusCase s small refSummary (engineLabel cmd) engineSummary)
+            putStrLn ("written " <> file)
+  stop <- readIORef broken
+  case stop of
+    Just (s, SumEngineError msg) -> do
+      hPutStrLn stderr ("stref explore: the engine failed on program " <> show s <> ": " <> T.unpack msg)
+      pure (ExitFailure 2)
+    _ -> finish found
+  where
+    finish found = do
+      n <- readIORef found
+      putStrLn (show (optCount o) <> " programs, " <> show n <> " disagreement" <> (if n == 1 then "" else "s"))
+      pure (if n == 0 then ExitSuccess else ExitFailure 1)
 
 -- | The engine's command without directories (no machine paths in cases).
 engineLabel :: String -> Text
