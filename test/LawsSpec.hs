@@ -38,17 +38,16 @@ inputVars =
       DINT -> OpSimple KI (20 + i)
       REAL -> OpSimple KF (10 + i)
 
--- | An expression over the inputs, the values of the inputs. Negative REAL
--- literals are left out: the checker reads @-1.5@ as unary minus (which
--- writes INTERNAL_OVERFLOW) where MT-LEX-14 lists it as a literal; see
--- docs/explore.md.
+-- | An expression over the inputs, the values of the inputs. Negative
+-- literals (@-15@, @-1.5@) are literals (MT-LEX-14, MT-LEX-19), not unary
+-- minus, so they never write INTERNAL_OVERFLOW.
 data ExprCase = ExprCase BasicType TExpr (M.Map Text Value)
 
 instance Show ExprCase where
   show (ExprCase t e env) = show t <> ": " <> show e <> "\n  inputs " <> show (M.toList env)
 
 exprScope :: Scope
-exprScope = Scope [(n, t) | (n, t, _) <- inputVars] True [] False
+exprScope = Scope [(n, t) | (n, t, _) <- inputVars] True [] True
 
 genExprCase :: Gen ExprCase
 genExprCase = do
