@@ -201,11 +201,23 @@ engineLabel cmd = case words cmd of
 
 report :: GenModule -> Summary -> Text -> Summary -> IO ()
 report gm refS otherName otherS = do
+  printInputs gm
   putStrLn ("difference: " <> T.unpack (fromMaybe "-" (summaryDifference refS otherS)))
   putStrLn "reference:"
   mapM_ (TIO.putStrLn . ("  " <>)) (changedOnly gm refS otherS refS)
   putStrLn (T.unpack otherName <> ":")
   mapM_ (TIO.putStrLn . ("  " <>)) (changedOnly gm refS otherS otherS)
+
+-- | The operand values before the call.
+printInputs :: GenModule -> IO ()
+printInputs gm =
+  case gmInputs gm of
+    [] -> pure ()
+    ins -> TIO.putStrLn ("inputs: " <> T.intercalate ", " [renderOperand o <> " = " <> showInput v | (o, v) <- ins])
+  where
+    showInput = \case
+      VBool b -> if b then "true" else "false"
+      v -> showValue v
 
 -- | The lines of a summary that differ from the other one (all of them when
 -- the verdicts differ), so that a report shows only what matters.
@@ -314,6 +326,7 @@ compareAlternatives o seed cfg alts = do
     ((s, gm) : _) -> do
       putStrLn ("smallest (program " <> show s <> ", shrunk):")
       TIO.putStr (generatedSource gm)
+      printInputs gm
       let ss = summaries gm
       forM_ ss $ \(name, sm) -> do
         putStrLn (T.unpack name <> ":")

@@ -814,7 +814,18 @@ shrinkBody emptyOk stmts =
     branchesOf = \case
       GIf arms els -> map snd arms ++ maybe [] pure els
       GCase _ arms els -> map snd arms ++ maybe [] pure els
+      -- a loop's body alone, when it neither leaves the loop nor reads the
+      -- control variable
+      GFor cv _ _ _ _ b | not (exitsLoop b), cv `notElem` namesIn b -> [b]
+      GWhile _ _ _ b | not (exitsLoop b) -> [b]
+      GRepeat _ _ _ b | not (exitsLoop b) -> [b]
       _ -> []
+    namesIn b = usedNames (GenModule [] [] [] [] (GProgram [] b))
+    exitsLoop = any $ \case
+      GExit -> True
+      GIf arms els -> any (exitsLoop . snd) arms || maybe False exitsLoop els
+      GCase _ arms els -> any (exitsLoop . snd) arms || maybe False exitsLoop els
+      _ -> False
 
 shrinkStmt :: GStmt -> [GStmt]
 shrinkStmt = \case
