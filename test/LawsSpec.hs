@@ -47,7 +47,7 @@ instance Show ExprCase where
   show (ExprCase t e env) = show t <> ": " <> show e <> "\n  inputs " <> show (M.toList env)
 
 exprScope :: Scope
-exprScope = Scope [(n, t) | (n, t, _) <- inputVars] True [] True
+exprScope = Scope [(n, t) | (n, t, _) <- inputVars] True [] [] True
 
 genExprCase :: Gen ExprCase
 genExprCase = do
@@ -78,6 +78,7 @@ kernelEval p env = go
       TLogic op _ a b -> two flag a b >>= \(x, y, f) -> Right (logic op x y, f)
       TExpt _ a b -> two flag a b >>= \(x, y, f) -> apply f (expt p x y)
       TCall {} -> Left (-1)
+      TIndex {} -> Left (-1)
     two flag a b = do
       (x, f1) <- go flag a
       (y, f2) <- go f1 b
@@ -90,6 +91,7 @@ expressionModule :: ExprCase -> GenModule
 expressionModule (ExprCase t e env) =
   GenModule
     { gmMapped = [MappedVar n ty o | (n, ty, o) <- inputVars] ++ [MappedVar "RES" t (resultOperand t), MappedVar "OV" BOOL (OpBit KM 600 0)]
+    , gmArrays = []
     , gmGlobals = []
     , gmInputs = [(o, v) | (n, _, o) <- inputVars, Just v <- [M.lookup n env]]
     , gmFunctions = []
@@ -213,7 +215,7 @@ spec = describe "Laws over generated programs" $ do
       withMaxSuccess 100 . forAll forCase $ \(start, end, step) ->
         let counter = MappedVar "N" DINT (OpSimple KI 50)
             body = [GAssign "N" DINT (TArith OpAdd DINT (TVar DINT "N") (TLit DINT (LitInt 1 10)))]
-            gm = GenModule [counter] [] [] [] (GProgram [] [GAssign "N" DINT (TLit DINT (LitInt 0 10)), GFor "FC" INT start end (Just step) body])
+            gm = GenModule [counter] [] [] [] [] (GProgram [] [GAssign "N" DINT (TLit DINT (LitInt 0 10)), GFor "FC" INT start end (Just step) body])
             expected = max 0 ((end - start) `div` step + 1)
          in case runGenerated mastertoolXE gm of
               Left es -> counterexample (show es) False

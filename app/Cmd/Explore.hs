@@ -258,7 +258,7 @@ corpusCase s gm refS engineName engineS =
         ]
       SumRejected _ -> ["  verdict: rejected"]
       _ -> ["  verdict: ok"]
-    types = M.fromList [(renderOperand (mvOperand v), mvType v) | v <- gmMapped gm]
+    types = M.fromList ([(renderOperand (mvOperand v), mvType v) | v <- gmMapped gm] ++ [(renderOperand o, gaType a) | a <- gmArrays gm, o <- arrayOperands a])
     patternYaml k w = case M.lookup k types of
       Just BOOL -> if w == 0 then "false" else "true"
       Just REAL -> "{bits: \"" <> hex w <> "\"}"
@@ -277,6 +277,7 @@ rulesOf gm = nub ("MT-EXEC-9" : concatMap stmtRules (allStmts gm))
     allStmts g = gpBody (gmProgram g) ++ concatMap gfBody (gmFunctions g)
     stmtRules = \case
       GAssign _ _ e -> "MT-STMT-2" : exprRules e
+      GAssignIndex _ _ i e -> "MT-ARR-2" : exprRules i ++ exprRules e
       GCall _ as -> "MT-STMT-3" : concatMap exprRules as
       GIf arms els -> "MT-STMT-6" : concat [exprRules c ++ concatMap stmtRules b | (c, b) <- arms] ++ maybe [] (concatMap stmtRules) els
       GCase sel arms els -> "MT-STMT-8" : exprRules sel ++ concatMap (concatMap stmtRules . snd) arms ++ maybe [] (concatMap stmtRules) els
@@ -299,6 +300,7 @@ rulesOf gm = nub ("MT-EXEC-9" : concatMap stmtRules (allStmts gm))
       TLogic _ _ a b -> "MT-OP-12" : exprRules a ++ exprRules b
       TExpt _ a b -> "MT-OP-20" : exprRules a ++ exprRules b
       TCall _ _ as -> "MT-OP-18" : concatMap exprRules as
+      TIndex _ _ i -> "MT-ARR-2" : exprRules i
     arithRule = \case
       OpDiv -> "MT-OP-9"
       OpMod -> "MT-OP-8"

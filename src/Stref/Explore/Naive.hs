@@ -41,6 +41,7 @@ naiveEval ovf env = go
         VReal r -> realResult True (if int y == 0 then 1 else toRational r ^ int y) (signOfPower r (int y)) -- MT-OP-20
         _ -> intResult True t (int x ^ int y)
       TCall {} -> Nothing
+      TIndex {} -> Nothing
     ok v f = Just (Right (v, f))
     bind m k = m >>= either (Just . Left) (uncurry k)
     bind2 a b flag k = bind (go flag a) $ \x f1 -> bind (go f1 b) $ \y f2 -> k x y f2

@@ -146,7 +146,7 @@ renderSummary gm = \case
       ++ [o <> " = " <> either id (showPattern o) p | (o, p) <- ops]
       ++ [k <> " = " <> maybe "?" (\b -> if b then "true" else "false") v | (k, v) <- outs]
   where
-    types = M.fromList [(renderOperand (mvOperand v), mvType v) | v <- gmMapped gm]
+    types = M.fromList ([(renderOperand (mvOperand v), mvType v) | v <- gmMapped gm] ++ [(renderOperand o, gaType a) | a <- gmArrays gm, o <- arrayOperands a])
     showPattern o w = case M.lookup o types of
       Just t
         | t == BOOL -> if w == 0 then "false" else "true"

@@ -47,6 +47,8 @@ module Stref.Generate.Program
   , GFunction (..)
   , GProgram (..)
   , MappedVar (..)
+  , GArray (..)
+  , arrayOperands
   , GenModule (..)
   , GenConfig (..)
   , defaultGenConfig
@@ -60,7 +62,7 @@ module Stref.Generate.Program
   ) where
 
 import Control.Monad (replicateM)
-import Data.List (nub)
+import Data.List (nub, (\\))
 import Data.Maybe (isJust)
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -157,6 +159,7 @@ data TExpr
   | TLogic LogicOp BasicType TExpr TExpr
   | TExpt BasicType TExpr TExpr -- ^ MT-OP-20: base type; exponent USINT
   | TCall BasicType Text [TExpr] -- ^ a user function: result type, name, arguments
+  | TIndex BasicType Text TExpr -- ^ an array element: element type, array, index of an ANY_INT type (MT-ARR-2)
   deriving (Eq, Show)
 
 texprType :: TExpr -> BasicType
@@ -173,6 +176,7 @@ texprType = \case
   TLogic _ t _ _ -> t
   TExpt t _ _ -> t
   TCall t _ _ -> t
+  TIndex t _ _ -> t
 
 -- | The value of a literal in its context type (REAL: the binary32 nearest
 -- to the decimal that 'toExpr' prints, which is the 'Float' itself).
@@ -213,6 +217,7 @@ toExpr = \case
   TLogic op _ a b -> EBinary () (logicOp op) (toExpr a) (toExpr b)
   TExpt _ a b -> ECall () (Ident "EXPT") [toExpr a, toExpr b]
   TCall _ f args -> ECall () (Ident f) (map toExpr args)
+  TIndex _ a i -> EIndex () (Ident a) (toExpr i)
   where
     arithOp = \case
       OpAdd -> Add
@@ -245,12 +250,13 @@ data Scope = Scope
   { scVars :: [(Text, BasicType)] -- ^ readable scalar variables
   , scFlag :: Bool -- ^ may read INTERNAL_OVERFLOW
   , scFunctions :: [(Text, BasicType, [BasicType])] -- ^ callable functions: name, result, parameters
+  , scArrays :: [GArray] -- ^ readable arrays
   , scNegativeReals :: Bool -- ^ may write negative REAL literals such as @-1.5@ (MT-LEX-14)
   }
   deriving (Show)
 
 emptyScope :: Scope
-emptyScope = Scope [] False [] True
+emptyScope = Scope [] False [] [] True
 
 -- | Table 4-15 (MT-CONST-2, MT-CONST-4): the integer literals a type admits.
 literalRange :: BasicType -> (Integer, Integer)
@@ -340,11 +346,13 @@ genExactSized sc t n
   where
     m = n `div` 2
     vars = [TVar t v | (v, t') <- scVars sc, t' == t]
+    arrays = [a | a <- scArrays sc, gaType a == t]
     leaf =
       oneof $
         [elements vars | not (null vars)]
           ++ [pure TFlag | t == BOOL, scFlag sc]
           ++ [TLit t <$> scopedLiteral sc t | t `elem` [BOOL, REAL]]
+          ++ [elements arrays >>= \a -> TIndex t (gaName a) <$> genIndex sc a | not (null arrays)]
           ++ [conversionOfLiteral]
     conversionOfLiteral = do
       row <- elements [r | r <- conversionTable, crTo r == t]
@@ -423,6 +431,7 @@ wellFormed = \case
   TLogic _ t a b -> t `elem` [BOOL, BYTE, WORD, DWORD] && pair t a b
   TExpt t b e -> isAnyNum t && exact t b && not (isLiteral b) && (exact USINT e || (isIntLiteral e && texprType e == USINT)) && wellFormed e
   TCall _ _ args -> all wellFormed args
+  TIndex _ _ i -> texprType i `elem` [USINT, INT, DINT] && wellFormed i
   where
     lookupRow s t = case [r | r <- conversionTable, crFrom r == s, crTo r == t] of
       (r : _) -> Just r
@@ -474,6 +483,7 @@ shrinkTExpr e = filter wellFormed (replacements ++ inside)
       TLogic _ _ a b -> [a, b]
       TExpt _ a b -> [a, b]
       TCall _ _ as -> as
+      TIndex _ _ i -> [i]
       _ -> []
     inside = case e of
       TWiden s ty a -> TWiden s ty <$> shrinkTExpr a
@@ -485,6 +495,7 @@ shrinkTExpr e = filter wellFormed (replacements ++ inside)
       TLogic op ty a b -> [TLogic op ty a' b | a' <- shrinkTExpr a] ++ [TLogic op ty a b' | b' <- shrinkTExpr b]
       TExpt ty a b -> [TExpt ty a' b | a' <- shrinkTExpr a] ++ [TExpt ty a b' | b' <- shrinkTExpr b]
       TCall ty f as -> TCall ty f <$> shrinkEach as
+      TIndex ty a i -> TIndex ty a <$> shrinkTExpr i
       _ -> []
     shrinkEach = \case
       [] -> []
@@ -496,6 +507,7 @@ shrinkTExpr e = filter wellFormed (replacements ++ inside)
 -- | Statements, with the loop shapes that guarantee termination.
 data GStmt
   = GAssign Text BasicType TExpr -- ^ target, its type, value of that type (possibly widened or a literal)
+  | GAssignIndex Text BasicType TExpr TExpr -- ^ array, element type, index, value
   | GCall Text [TExpr] -- ^ a function call as a statement (MT-STMT-3)
   | GIf [(TExpr, [GStmt])] (Maybe [GStmt])
   | GCase TExpr [([(Integer, Integer)], [GStmt])] (Maybe [GStmt]) -- ^ selector of an ANY_INT type, label ranges
@@ -522,12 +534,36 @@ data GFunction = GFunction
 data GProgram = GProgram {gpLocals :: [LocalVar], gpBody :: [GStmt]}
   deriving (Eq, Show)
 
+-- | A global array mapped onto consecutive operands (MT-MAP-9): element k
+-- is the operand k - lower after the first.
+data GArray = GArray {gaName :: Text, gaType :: BasicType, gaLower :: Integer, gaUpper :: Integer, gaFirst :: Operand}
+  deriving (Eq, Show)
+
+arrayOperands :: GArray -> [Operand]
+arrayOperands a = [shift (fromInteger (k - gaLower a)) | k <- [gaLower a .. gaUpper a]]
+  where
+    shift d = case gaFirst a of
+      OpSimple kind n -> OpSimple kind (n + d)
+      OpTablePos kind n p -> OpTablePos kind n (p + d)
+      op -> op
+
+-- | An index for the array: mostly a literal within the bounds, sometimes
+-- just outside them (runtime error 2015), sometimes any ANY_INT expression.
+genIndex :: Scope -> GArray -> Gen TExpr
+genIndex sc a =
+  frequency
+    [ (12, TLit DINT . (`LitInt` 10) <$> choose (gaLower a, gaUpper a))
+    , (1, TLit DINT . (`LitInt` 10) <$> elements [gaLower a - 1, gaUpper a + 1])
+    , (1, elements [USINT, INT, DINT] >>= \t -> resize 2 (genExactExpr sc {scArrays = []} t))
+    ]
+
 -- | A global mapped onto a PLC operand (MT-MAP-4, Table 4-8).
 data MappedVar = MappedVar {mvName :: Text, mvType :: BasicType, mvOperand :: Operand}
   deriving (Eq, Show)
 
 data GenModule = GenModule
   { gmMapped :: [MappedVar]
+  , gmArrays :: [GArray] -- ^ mapped arrays (MT-MAP-9)
   , gmGlobals :: [LocalVar] -- ^ unmapped globals
   , gmInputs :: [(Operand, Value)] -- ^ operand values before the call
   , gmFunctions :: [GFunction]
@@ -547,6 +583,14 @@ data GenConfig = GenConfig
 
 defaultGenConfig :: GenConfig
 defaultGenConfig = GenConfig {gcFunctions = 3, gcStatements = 5, gcTypeMaxFor = False, gcShadowing = False, gcFlag = True, gcNegativeReals = True}
+
+-- | Mapped arrays (never BOOL, MT-MAP-11) at operands of the default
+-- configuration, clear of the scalars: zero to two of them.
+genArrays :: Gen [GArray]
+genArrays = do
+  k <- choose (0, 2)
+  kinds <- take k <$> shuffle [("GAI", INT, OpSimple KM 200), ("GAD", DINT, OpSimple KI 50), ("GAR", REAL, OpSimple KF 50), ("GAU", USINT, OpSimple KA 40), ("GAW", WORD, OpSimple KM 220)]
+  mapM (\(n, t, o) -> do lo <- choose (0, 5); len <- choose (1, 6); pure (GArray n t lo (lo + len - 1) o)) kinds
 
 -- | Mapped globals: two of each type, at operands of the default
 -- configuration (defaultPlcConfig), none aliasing another.
@@ -577,6 +621,7 @@ standardMapped = concatMap forType allBasicTypes
 data Ctx = Ctx
   { cxScope :: Scope
   , cxTargets :: [(Text, BasicType)] -- ^ writable variables
+  , cxArrayTargets :: [GArray] -- ^ writable arrays
   , cxInLoop :: Bool
   , cxLoopDepth :: Int
   , cxNesting :: Int -- ^ depth of compound statements
@@ -590,7 +635,11 @@ genModule cfg = do
       globalScope = [(mvName v, mvType v) | v <- mapped]
   nGlobals <- choose (0, 3)
   globals <- mapM (\i -> genLocal ("GL" <> T.pack (show i))) [0 .. nGlobals - 1 :: Int]
-  inputs <- mapM (\v -> (mvOperand v,) <$> genValue (mvType v)) mapped
+  arrays <- genArrays
+  inputs <-
+    (++)
+      <$> mapM (\v -> (mvOperand v,) <$> genValue (mvType v)) mapped
+      <*> mapM (\(o, t) -> (o,) <$> genValue t) [(o, gaType a) | a <- arrays, o <- arrayOperands a]
   nFun <- choose (0, gcFunctions cfg)
   funs <- genFunctions cfg (globalScope ++ [(lvName g, lvType g) | g <- globals]) nFun
   let funSigs = [(gfName f, gfResult f, map snd (gfParams f)) | f <- funs]
@@ -608,8 +657,9 @@ genModule cfg = do
       outputs = [("OUTPUT" <> T.pack (show i), BOOL) | i <- [1 .. 3 :: Int]]
       ctx =
         Ctx
-          { cxScope = Scope (readable ++ signals) (gcFlag cfg) funSigs (gcNegativeReals cfg)
+          { cxScope = Scope (readable ++ signals) (gcFlag cfg) funSigs arrays (gcNegativeReals cfg)
           , cxTargets = readable ++ outputs
+          , cxArrayTargets = arrays
           , cxInLoop = False
           , cxLoopDepth = 0
           , cxNesting = 0
@@ -617,7 +667,7 @@ genModule cfg = do
           , cxConfig = cfg
           }
   body <- genBody ctx True
-  pure (GenModule mapped globals inputs funs (GProgram locals body))
+  pure (GenModule mapped arrays globals inputs funs (GProgram locals body))
 
 genLocal :: Text -> Gen LocalVar
 genLocal name = do
@@ -641,8 +691,9 @@ genFunctions cfg globals n = go 0 []
           let readable = globals ++ params ++ [(lvName l, lvType l) | l <- locals]
               ctx =
                 Ctx
-                  { cxScope = Scope readable False earlier (gcNegativeReals cfg)
+                  { cxScope = Scope readable False earlier [] (gcNegativeReals cfg)
                   , cxTargets = [(lvName l, lvType l) | l <- locals]
+                  , cxArrayTargets = []
                   , cxInLoop = False
                   , cxLoopDepth = 0
                   , cxNesting = 0
@@ -687,9 +738,17 @@ genStmt ctx =
     -- a WHILE or REPEAT body is followed by its counter's increment, so it
     -- may not end with EXIT or RETURN itself (MT-STMT-22)
     smallBodyEnding c final = resize 2 (genBody c {cxNesting = cxNesting c + 1, cxConfig = (cxConfig c) {gcStatements = min 3 (gcStatements (cxConfig c))}} final)
-    assign = do
-      (v, t) <- elements (cxTargets ctx)
-      GAssign v t <$> scaled (genExpr sc t)
+    assign =
+      frequency $
+        [ (4, do (v, t) <- elements (cxTargets ctx); GAssign v t <$> scaled (genExpr sc t))
+        ]
+          ++ [ ( 1
+               , do
+                   a <- elements (cxArrayTargets ctx)
+                   GAssignIndex (gaName a) (gaType a) <$> genIndex sc a <*> scaled (genExpr sc (gaType a))
+               )
+             | not (null (cxArrayTargets ctx))
+             ]
     callStmt = do
       (f, _, ps) <- elements (scFunctions sc)
       GCall f <$> mapM (scaled . genExpr sc) ps
@@ -752,6 +811,7 @@ shrinkGenModule :: GenModule -> [GenModule]
 shrinkGenModule gm =
   [gm {gmFunctions = fs} | fs <- dropUnusedFunction]
     ++ [gm {gmMapped = vs, gmInputs = [(o, x) | (o, x) <- gmInputs gm, o `elem` map mvOperand vs]} | vs <- dropUnused mvName (gmMapped gm)]
+    ++ [gm {gmArrays = as, gmInputs = [(o, x) | (o, x) <- gmInputs gm, o `notElem` concatMap arrayOperands (gmArrays gm \\ as)]} | as <- dropUnused gaName (gmArrays gm)]
     ++ [gm {gmGlobals = ls} | ls <- dropUnused lvName (gmGlobals gm)]
     ++ [gm {gmProgram = (gmProgram gm) {gpLocals = ls}} | ls <- dropUnused lvName (gpLocals (gmProgram gm))]
     ++ [gm {gmFunctions = fs} | fs <- dropUnusedLocals (gmFunctions gm)]
@@ -820,7 +880,7 @@ shrinkBody emptyOk stmts =
       GWhile _ _ _ b | not (exitsLoop b) -> [b]
       GRepeat _ _ _ b | not (exitsLoop b) -> [b]
       _ -> []
-    namesIn b = usedNames (GenModule [] [] [] [] (GProgram [] b))
+    namesIn b = usedNames (GenModule [] [] [] [] [] (GProgram [] b))
     exitsLoop = any $ \case
       GExit -> True
       GIf arms els -> any (exitsLoop . snd) arms || maybe False exitsLoop els
@@ -830,6 +890,7 @@ shrinkBody emptyOk stmts =
 shrinkStmt :: GStmt -> [GStmt]
 shrinkStmt = \case
   GAssign v t e -> GAssign v t <$> shrinkTExpr e
+  GAssignIndex a t i e -> [GAssignIndex a t i' e | i' <- shrinkTExpr i] ++ [GAssignIndex a t i e' | e' <- shrinkTExpr e]
   GCall f args -> [GCall f (take i args ++ [a'] ++ drop (i + 1) args) | (i, a) <- zip [0 ..] args, a' <- shrinkTExpr a]
   GIf arms els ->
     [GIf (take i arms ++ drop (i + 1) arms) els | length arms > 1, i <- [0 .. length arms - 1]]
@@ -865,6 +926,7 @@ usedNames gm = nub (concatMap (concatMap stmtNames . gfBody) (gmFunctions gm) ++
   where
     stmtNames = \case
       GAssign v _ e -> v : exprNames e
+      GAssignIndex a _ i e -> a : exprNames i ++ exprNames e
       GCall f args -> f : concatMap exprNames args
       GIf arms els -> concat [exprNames c ++ concatMap stmtNames b | (c, b) <- arms] ++ maybe [] (concatMap stmtNames) els
       GCase sel arms els -> exprNames sel ++ concatMap (concatMap stmtNames . snd) arms ++ maybe [] (concatMap stmtNames) els
@@ -875,6 +937,7 @@ usedNames gm = nub (concatMap (concatMap stmtNames . gfBody) (gmFunctions gm) ++
     exprNames = \case
       TVar _ v -> [v]
       TCall _ f args -> f : concatMap exprNames args
+      TIndex _ a i -> a : exprNames i
       TWiden _ _ e -> exprNames e
       TConv _ _ e -> exprNames e
       TNeg _ e -> exprNames e
@@ -892,6 +955,7 @@ calledNames gm = concatMap (concatMap stmtCalls . gfBody) (gmFunctions gm) ++ co
 stmtCalls :: GStmt -> [Text]
 stmtCalls = \case
   GAssign _ _ e -> exprCalls e
+  GAssignIndex _ _ i e -> exprCalls i ++ exprCalls e
   GCall f args -> f : concatMap exprCalls args
   GIf arms els -> concat [exprCalls c ++ concatMap stmtCalls b | (c, b) <- arms] ++ maybe [] (concatMap stmtCalls) els
   GCase sel arms els -> exprCalls sel ++ concatMap (concatMap stmtCalls . snd) arms ++ maybe [] (concatMap stmtCalls) els
@@ -903,6 +967,7 @@ stmtCalls = \case
 exprCalls :: TExpr -> [Text]
 exprCalls = \case
   TCall _ f args -> f : concatMap exprCalls args
+  TIndex _ _ i -> exprCalls i
   TWiden _ _ e -> exprCalls e
   TConv _ _ e -> exprCalls e
   TNeg _ e -> exprCalls e
@@ -924,13 +989,15 @@ toModule :: GenModule -> Module ()
 toModule gm =
   Module
     { modGlobals =
-        [VarBlock () SecVar False (map mappedDecl (gmMapped gm)) | not (null (gmMapped gm))]
+        [VarBlock () SecVar False (map mappedDecl (gmMapped gm) ++ map arrayDecl (gmArrays gm)) | not (null (gmMapped gm) && null (gmArrays gm))]
           ++ [VarBlock () SecVar False (map localDecl (gmGlobals gm)) | not (null (gmGlobals gm))]
     , modFunctions = map function (gmFunctions gm)
     , modProgram =
         Program () (Ident "EXPLORE") (localBlock (gpLocals (gmProgram gm)) (loopVars (gpBody (gmProgram gm)))) (concatMap stmt (gpBody (gmProgram gm)))
     }
   where
+    arrayDecl a = VarDecl () [((), Ident (gaName a))] (Just ((), operandRef (gaFirst a))) (TArray (bound (gaLower a)) (bound (gaUpper a)) (gaType a)) Nothing
+    bound n = toExpr (TLit DINT (LitInt n 10))
     mappedDecl v = VarDecl () [((), Ident (mvName v))] (Just ((), operandRef (mvOperand v))) (TBasic (mvType v)) Nothing
     localDecl l = VarDecl () [((), Ident (lvName l))] Nothing (TBasic (lvType l)) (InitExpr . toExpr . TLit (lvType l) <$> lvInit l)
     loopDecl (n, t) = VarDecl () [((), Ident n)] Nothing (TBasic t) Nothing
@@ -967,6 +1034,7 @@ operandRef = \case
 stmt :: GStmt -> [Stmt ()]
 stmt = \case
   GAssign v _ e -> [Assign () (LVar () (Ident v)) (toExpr e)]
+  GAssignIndex a _ i e -> [Assign () (LIndex () (Ident a) (toExpr i)) (toExpr e)]
   GCall f args -> [CallStmt () (Ident f) (map toExpr args)]
   GIf arms els -> [If () [(toExpr c, body b) | (c, b) <- arms] (body <$> els)]
   GCase sel arms els -> [Case () (toExpr sel) [CaseArm () (map label ls) (body b) | (ls, b) <- arms] (body <$> els)]
@@ -994,7 +1062,7 @@ stmt = \case
 
 -- | The operands whose final values are the outcome of a run.
 observedOperands :: GenModule -> [Operand]
-observedOperands = map mvOperand . gmMapped
+observedOperands gm = map mvOperand (gmMapped gm) ++ concatMap arrayOperands (gmArrays gm)
 
 -- | The controller memory before the call.
 initialMemory :: GenModule -> Memory
