@@ -50,6 +50,7 @@ data Options = Options
   , optPolicies :: [String]
   , optShrinkBudget :: Int
   , optTimeout :: Double
+  , optCalls :: Maybe Int
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -73,6 +74,7 @@ options =
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "A policy of the reference (default: the mastertool-xe preset)"))
     <*> option auto (long "shrink-budget" <> metavar "N" <> value 400 <> showDefault <> help "At most N runs while shrinking one disagreement")
     <*> option auto (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Time limit of one engine run")
+    <*> optional (option auto (long "calls" <> metavar "N" <> help "Module calls per program (default 1; 2 for --compare lifetime)"))
   where
     mode =
       (AgainstEngine <$> strOption (long "engine" <> metavar "CMD" <> help "The engine command (request on stdin, answer on stdout)"))
@@ -107,7 +109,7 @@ run o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy
         forM_ (programs o defaultGenConfig seed) $ \(s, gm) -> do
           putStrLn ("(* program " <> show s <> " *)")
           TIO.putStr (generatedSource gm)
-          let answer = referenceEngine [] (explorationRequest reference "explore" gm)
+          let answer = referenceEngine [] (explorationRequest reference (fromMaybe 1 (optCalls o)) "explore" gm)
           mapM_ (TIO.putStrLn . ("(* " <>) . (<> " *)")) (renderSummary gm (summarise gm (Right answer)))
         pure ExitSuccess
       ComparePresets a b -> case (lookupPreset (T.pack a), lookupPreset (T.pack b)) of
@@ -148,8 +150,8 @@ shrinkWith budget stillFails = go 0
 againstEngine :: Options -> Policies -> Int -> String -> IO ExitCode
 againstEngine o reference seed cmd = do
   let ropts = defaultRunOptions {roEngine = External cmd, roTimeout = optTimeout o}
-      ask gm = askEngine ropts (explorationRequest reference "explore" gm)
-      refOf gm = summarise gm (Right (referenceEngine [] (explorationRequest reference "explore" gm)))
+      ask gm = askEngine ropts (explorationRequest reference (fromMaybe 1 (optCalls o)) "explore" gm)
+      refOf gm = summarise gm (Right (referenceEngine [] (explorationRequest reference (fromMaybe 1 (optCalls o)) "explore" gm)))
       differs gm = do
         e <- summarise gm <$> ask gm
         pure (e /= refOf gm, e)
@@ -179,7 +181,7 @@ againstEngine o reference seed cmd = do
           forM_ (optOut o) $ \dir -> do
             createDirectoryIfMissing True dir
             let file = dir </> ("explore-" <> show s <> ".st")
-            TIO.writeFile file (corpusCase s small refSummary (engineLabel cmd) engineSummary)
+            TIO.writeFile file (corpusCase (fromMaybe 1 (optCalls o)) s small refSummary (engineLabel cmd) engineSummary)
             putStrLn ("written " <> file)
   stop <- readIORef broken
   case stop of
@@ -231,8 +233,8 @@ changedOnly gm a b s =
 
 -- | A corpus case (conformance/README.md format): the reference's results as
 -- the expectation, marked generated and unreviewed, both answers in a comment.
-corpusCase :: Int -> GenModule -> Summary -> Text -> Summary -> Text
-corpusCase s gm refS engineName engineS =
+corpusCase :: Int -> Int -> GenModule -> Summary -> Text -> Summary -> Text
+corpusCase calls s gm refS engineName engineS =
   T.unlines $
     [ "(*---"
     , "description: '" <> T.replace "'" "''" ("found by stref explore (seed " <> tshow s <> "); the reference and the engine (" <> engineName <> ") disagree on " <> fromMaybe "-" (summaryDifference refS engineS)) <> "'"
@@ -240,8 +242,9 @@ corpusCase s gm refS engineName engineS =
     , "features: [generated, unreviewed]"
     , "plc:"
     , "  init: {" <> T.intercalate ", " [quote (renderOperand op) <> ": " <> yamlValue v | (op, v) <- gmInputs gm] <> "}"
-    , "expect:"
     ]
+      ++ ["calls: " <> tshow calls | calls > 1]
+      ++ ["expect:"]
       ++ expectation
       ++ ["---*)", "(* answers (both engines, before review):"]
       ++ map ("   reference: " <>) (renderSummary gm refS)
@@ -311,7 +314,8 @@ rulesOf gm = nub ("MT-EXEC-9" : concatMap stmtRules (allStmts gm))
 
 compareAlternatives :: Options -> Int -> GenConfig -> [(Text, Policies)] -> IO ExitCode
 compareAlternatives o seed cfg alts = do
-  let summaries gm = [(name, summarise gm (Right (referenceEngine [] (explorationRequest p "explore" gm)))) | (name, p) <- alts]
+  let calls = fromMaybe (if map fst alts == ["per-call", "retained"] then 2 else 1) (optCalls o)
+  let summaries gm = [(name, summarise gm (Right (referenceEngine [] (explorationRequest p calls "explore" gm)))) | (name, p) <- alts]
       differs gm = case map snd (summaries gm) of
         (s : rest) -> any (/= s) rest
         [] -> False

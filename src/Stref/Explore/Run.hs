@@ -69,9 +69,10 @@ observeDirect gm (st, res) =
       _ -> readCell (psMemory st) (operandCell o)
 
 -- | A protocol request for the generated module under the given policies
--- (sent in full, so that an engine's own overrides decide what differs).
-explorationRequest :: Policies -> Text -> GenModule -> Request
-explorationRequest pol caseId gm =
+-- (sent in full, so that an engine's own overrides decide what differs),
+-- for the given number of module calls.
+explorationRequest :: Policies -> Int -> Text -> GenModule -> Request
+explorationRequest pol calls caseId gm =
   Request
     { rqProtocol = protocolVersion
     , rqCase = caseId
@@ -86,7 +87,7 @@ explorationRequest pol caseId gm =
           , prInit = M.fromList [(renderOperand o, scalar v) | (o, v) <- gmInputs gm]
           , prChf = Nothing
           }
-    , rqCalls = [CallRequest (True, True, True) M.empty]
+    , rqCalls = replicate (max 1 calls) (CallRequest (True, True, True) M.empty)
     , rqObserve = Observe (map renderOperand (observedOperands gm)) [] ["OUTPUT1", "OUTPUT2", "OUTPUT3"] True
     }
   where
