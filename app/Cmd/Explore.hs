@@ -161,7 +161,13 @@ againstEngine o reference seed cmd = do
         SumEngineError _ -> True
         _ -> False
       -- a shrink step must keep a real disagreement, not an engine failure
-      stillDiffers gm = (\(bad, e) -> bad && not (isEngineError e)) <$> differs gm
+      -- and a well-typed program: the reference must not reject it
+      isRejected = \case
+        SumRejected _ -> True
+        _ -> False
+      stillDiffers gm
+        | isRejected (refOf gm) = pure False
+        | otherwise = (\(bad, e) -> bad && not (isEngineError e)) <$> differs gm
   forM_ (programs o defaultGenConfig seed) $ \(s, gm) -> do
     stop <- readIORef broken
     when (stop == Nothing) $ do
