@@ -200,6 +200,16 @@ spec = describe "Laws over generated programs" $ do
         counterexample (T.unpack (generatedSource gm)) $ case checkGenerated mastertoolXE gm of
           Left es -> counterexample (show es) False
           Right _ -> property True
+    it "the checker accepts every shrink of a generated module (shrinking keeps programs well typed)" $
+      withMaxSuccess 25 . forAll (genModuleWith defaultGenConfig) $ \gm ->
+        conjoin
+          [ counterexample (T.unpack (generatedSource small)) $ case checkGenerated mastertoolXE small of
+              Left es -> counterexample (show es) False
+              Right _ -> property True
+          | let candidates = shrinkGenModule gm
+                step = max 1 (length candidates `div` 40)
+          , small <- everyNth step candidates
+          ]
     it "every generated module ends in ok or a documented runtime error" $
       withMaxSuccess 60 . forAll (genModuleWith defaultGenConfig) $ \gm ->
         counterexample (T.unpack (generatedSource gm)) $ case runGenerated mastertoolXE gm of
@@ -221,6 +231,9 @@ spec = describe "Laws over generated programs" $ do
               Left es -> counterexample (show es) False
               Right (st, _) -> readOperand (psMemory st) (OpSimple KI 50) DINT === VDInt (fromInteger expected)
   where
+    everyNth k xs = case xs of
+      [] -> []
+      (x : rest) -> x : everyNth k (drop (k - 1) rest)
     exactOf op x y = case op of
       OpAdd -> x + y
       OpSub -> x - y
