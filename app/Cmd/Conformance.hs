@@ -5,6 +5,8 @@
 module Cmd.Conformance (Cmd.Conformance.command) where
 
 import Cmd.PolicyOptions
+import Control.Monad (when)
+import GHC.Conc (getNumProcessors, setNumCapabilities)
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import qualified Data.Set as S
@@ -117,6 +119,9 @@ run o = case resolvePolicies (oPreset o) (oPolicies o) of
                     , roKnownFailures = knownSet
                     , roMaxAnswerBytes = oMaxAnswer o
                     }
+            -- the reference engine computes in this process: use the cores
+            cores <- getNumProcessors
+            when (oJobs o > 1) (setNumCapabilities (max 1 (min (oJobs o) cores)))
             results <- runCorpus options corpus
             let ids = S.fromList (map resId results)
                 staleKnown = [k | k <- S.toList knownSet, k `S.notMember` ids]

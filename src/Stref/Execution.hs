@@ -294,12 +294,17 @@ checkChfParameters line cfg prog ins outs
       Array {} -> True
       Basic _ -> False
 
--- | %KM goes to %M types, %KI to %I types, %KF to %F types (Table 4-8).
+-- | An integer constant (%KM, %KI) goes to any integer or bit-string
+-- parameter, a real constant (%KF) to a REAL one; whether the value fits the
+-- parameter is the separate check of 2008 (MT-PARAM-7: the constant is
+-- measured against the parameter's size, not against its own kind).
 constantFits :: ConstKind -> BasicType -> Bool
 constantFits kind t = case kind of
-  KMConst -> t `elem` [INT, WORD]
-  KIConst -> t `elem` [DINT, DWORD]
+  KMConst -> integral
+  KIConst -> integral
   KFConst -> t == REAL
+  where
+    integral = t `elem` [USINT, BYTE, INT, WORD, DINT, DWORD]
 
 -- | MT-PARAM-7: the constant's value must fit the parameter (else 2008): an
 -- integer within the type's range, or a REAL within the binary32 range.

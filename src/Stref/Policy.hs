@@ -168,7 +168,7 @@ mastertoolXE =
     , pNestedComments = NoNesting -- MT-LEX-8
     , pElsifKeyword = ElsifAndElseif -- A1
     , pErrorLineBeforeStart = 0 -- A2
-    , pStepBudget = 50000000 -- MT-EXEC-7: far above any terminating program of realistic size
+    , pStepBudget = 10000000 -- MT-EXEC-7: 10^7 steps, far above any terminating program of realistic size
     }
 
 -- | Named presets. Only MasterTool XE is a complete dialect today; the next

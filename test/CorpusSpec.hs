@@ -1,0 +1,27 @@
+-- | The conformance corpus on the reference engine: every case of
+-- conformance/ is one example, and each must pass (issue: the corpus passes
+-- 100 % on the reference). Expectations were computed by hand from the
+-- manual; a failure here is a disagreement between the interpreter and the
+-- manual's rules as the case states them.
+module CorpusSpec (spec) where
+
+import qualified Data.Text as T
+import Stref.Conformance.Corpus
+import Stref.Conformance.Runner
+import Test.Hspec
+
+spec :: Spec
+spec = do
+  corpus <- runIO (loadCorpus ["conformance"])
+  describe "the conformance corpus on the reference engine" $ do
+    it "loads without problems outside the cases" $
+      corpusErrors corpus `shouldBe` []
+    it "has at least 400 cases" $
+      length (corpusEntries corpus) `shouldSatisfy` (>= 400)
+    mapM_ caseExample (corpusEntries corpus)
+  where
+    caseExample entry = it (T.unpack (entryId entry)) $ case entry of
+      Invalid _ _ msg -> expectationFailure (T.unpack msg)
+      Loaded c -> do
+        outcome <- runOne defaultRunOptions c
+        outcome `shouldBe` Pass
