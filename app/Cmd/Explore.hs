@@ -99,13 +99,14 @@ run o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy
   Right reference0 -> do
     let reference = reference0 {pStepBudget = min (pStepBudget reference0) explorationBudget}
     seed <- maybe (generate (choose (0, 999999))) pure (optSeed o)
-    putStrLn ("seed " <> show seed <> " (replay with --seed " <> show seed <> " --count " <> show (optCount o) <> " --size " <> show (optSize o) <> ")")
+    let announce = putStrLn ("seed " <> show seed <> " (replay with --seed " <> show seed <> " --count " <> show (optCount o) <> " --size " <> show (optSize o) <> ")")
     case optMode o of
-      AgainstEngine cmd -> againstEngine o reference seed cmd
+      AgainstEngine cmd -> announce >> againstEngine o reference seed cmd
       ComparePolicy name -> case alternativesOf (T.pack name) reference of
         Left msg -> usage msg
-        Right alts -> compareAlternatives o seed (configFor name) alts
+        Right alts -> announce >> compareAlternatives o seed (configFor name) alts
       PrintPrograms -> do
+        announce
         forM_ (programs o defaultGenConfig seed) $ \(s, gm) -> do
           putStrLn ("(* program " <> show s <> " *)")
           TIO.putStr (generatedSource gm)
@@ -113,7 +114,7 @@ run o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy
           mapM_ (TIO.putStrLn . ("(* " <>) . (<> " *)")) (renderSummary gm (summarise gm (Right answer)))
         pure ExitSuccess
       ComparePresets a b -> case (lookupPreset (T.pack a), lookupPreset (T.pack b)) of
-        (Just pa, Just pb) -> compareAlternatives o seed defaultGenConfig [(T.pack a, budgeted pa), (T.pack b, budgeted pb)]
+        (Just pa, Just pb) -> announce >> compareAlternatives o seed defaultGenConfig [(T.pack a, budgeted pa), (T.pack b, budgeted pb)]
         _ -> usage ("unknown preset; the presets are: " <> T.intercalate ", " (map fst presets))
   where
     budgeted p = p {pStepBudget = explorationBudget}
