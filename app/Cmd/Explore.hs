@@ -122,6 +122,7 @@ run o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy
     configFor name = case name of
       "name-resolution" -> defaultGenConfig {gcShadowing = True}
       "for-at-type-max" -> defaultGenConfig {gcTypeMaxFor = True}
+      "for-bounds" -> defaultGenConfig {gcVariableForBounds = True}
       _ -> defaultGenConfig
 
 programs :: Options -> GenConfig -> Int -> [(Int, GenModule)]
@@ -292,6 +293,7 @@ rulesOf gm = nub ("MT-EXEC-9" : concatMap stmtRules (allStmts gm))
       GIf arms els -> "MT-STMT-6" : concat [exprRules c ++ concatMap stmtRules b | (c, b) <- arms] ++ maybe [] (concatMap stmtRules) els
       GCase sel arms els -> "MT-STMT-8" : exprRules sel ++ concatMap (concatMap stmtRules . snd) arms ++ maybe [] (concatMap stmtRules) els
       GFor _ _ _ _ _ b -> "MT-STMT-18" : concatMap stmtRules b
+      GForVar _ _ _ _ _ _ b -> "MT-STMT-19" : concatMap stmtRules b
       GWhile _ _ c b -> "MT-STMT-13" : exprRules c ++ concatMap stmtRules b
       GRepeat _ _ c b -> "MT-STMT-14" : exprRules c ++ concatMap stmtRules b
       GExit -> ["MT-STMT-12"]

@@ -512,6 +512,9 @@ data GStmt
   | GIf [(TExpr, [GStmt])] (Maybe [GStmt])
   | GCase TExpr [([(Integer, Integer)], [GStmt])] (Maybe [GStmt]) -- ^ selector of an ANY_INT type, label ranges
   | GFor Text BasicType Integer Integer (Maybe Integer) [GStmt] -- ^ control variable, type, start, end, BY
+  | GForVar Text BasicType Integer Text Integer (Maybe Integer) [GStmt]
+  -- ^ @e := k; FOR cv := start TO e BY step DO body END_FOR;@ where the body
+  -- may change @e@ (policy for-bounds)
   | GWhile Text Integer TExpr [GStmt] -- ^ counter, bound: @c := 0; WHILE c < k AND cond DO body c := c + 1; END_WHILE;@
   | GRepeat Text Integer TExpr [GStmt] -- ^ @c := 0; REPEAT body c := c + 1; UNTIL c >= k OR cond END_REPEAT;@
   | GExit
@@ -578,11 +581,12 @@ data GenConfig = GenConfig
   , gcShadowing :: Bool -- ^ declare program locals with globals' names (policy name-resolution)
   , gcFlag :: Bool -- ^ read INTERNAL_OVERFLOW in the program
   , gcNegativeReals :: Bool -- ^ write negative REAL literals
+  , gcVariableForBounds :: Bool -- ^ FOR loops whose end is a variable the body may change (policy for-bounds)
   }
   deriving (Show)
 
 defaultGenConfig :: GenConfig
-defaultGenConfig = GenConfig {gcFunctions = 3, gcStatements = 5, gcTypeMaxFor = False, gcShadowing = False, gcFlag = True, gcNegativeReals = True}
+defaultGenConfig = GenConfig {gcFunctions = 3, gcStatements = 5, gcTypeMaxFor = False, gcShadowing = False, gcFlag = True, gcNegativeReals = True, gcVariableForBounds = False}
 
 -- | Mapped arrays (never BOOL, MT-MAP-11) at operands of the default
 -- configuration, clear of the scalars: zero to two of them.
@@ -724,6 +728,7 @@ genStmt ctx =
       ++ [(2, ifStmt) | shallow]
       ++ [(1, caseStmt) | shallow]
       ++ [(1, forStmt) | deep]
+      ++ [(2, forVarStmt) | deep, gcVariableForBounds (cxConfig ctx)]
       ++ [(1, whileStmt) | deep]
       ++ [(1, repeatStmt) | deep]
       ++ [(1, pure GEmpty)]
@@ -771,6 +776,23 @@ genStmt ctx =
       (start, end, step) <- genForBounds t
       body <- smallBody nested {cxScope = sc {scVars = (cv, t) : scVars sc}}
       pure (GFor cv t start end step body)
+    forVarStmt = do
+      t <- elements [USINT, INT]
+      let cv = cxPrefix ctx <> "FC"
+          e = cxPrefix ctx <> "FE"
+      start <- choose (0, 3)
+      end <- choose (0, 6)
+      step <- frequency [(2, pure Nothing), (1, Just <$> choose (1, 2))]
+      let inner = nested {cxScope = sc {scVars = (cv, t) : (e, t) : scVars sc}, cxTargets = (e, t) : cxTargets ctx}
+      body <- smallBody inner
+      change <-
+        elements
+          [ TArith OpSub t (TVar t e) (TLit t (LitInt 1 10))
+          , TArith OpAdd t (TVar t e) (TLit t (LitInt 1 10))
+          , TLit t (LitInt 2 10)
+          ]
+      -- the body changes the end variable before anything may leave the loop
+      pure (GForVar cv t start e end step (GAssign e t change : body))
     whileStmt = do
       let c = cxPrefix ctx <> "WC"
       k <- choose (0, 4)
@@ -903,6 +925,10 @@ shrinkStmt = \case
       ++ [GCase sel arms Nothing | isJust els]
       ++ [GCase sel' arms els | sel' <- shrinkTExpr sel, exactDefinite (texprType sel) sel']
       ++ [GCase sel (replaceAt i (l, b') arms) els | (i, (l, b)) <- zip [0 ..] arms, b' <- shrinkBody True b]
+  GForVar cv t s e k st body ->
+    [GForVar cv t s e k' st body | k' <- shrinkIntegral k, k' >= 0]
+      ++ [GForVar cv t s e k Nothing body | isJust st]
+      ++ [GForVar cv t s e k st body' | body' <- shrinkBody True body]
   GFor cv t s e st body ->
     [GFor cv t s e' st body | e' <- [s, s + 1], e' /= e, e' < e]
       ++ [GFor cv t s e Nothing body | isJust st]
@@ -931,6 +957,7 @@ usedNames gm = nub (concatMap (concatMap stmtNames . gfBody) (gmFunctions gm) ++
       GIf arms els -> concat [exprNames c ++ concatMap stmtNames b | (c, b) <- arms] ++ maybe [] (concatMap stmtNames) els
       GCase sel arms els -> exprNames sel ++ concatMap (concatMap stmtNames . snd) arms ++ maybe [] (concatMap stmtNames) els
       GFor _ _ _ _ _ b -> concatMap stmtNames b
+      GForVar _ _ _ e _ _ b -> e : concatMap stmtNames b
       GWhile _ _ c b -> exprNames c ++ concatMap stmtNames b
       GRepeat _ _ c b -> exprNames c ++ concatMap stmtNames b
       _ -> []
@@ -960,6 +987,7 @@ stmtCalls = \case
   GIf arms els -> concat [exprCalls c ++ concatMap stmtCalls b | (c, b) <- arms] ++ maybe [] (concatMap stmtCalls) els
   GCase sel arms els -> exprCalls sel ++ concatMap (concatMap stmtCalls . snd) arms ++ maybe [] (concatMap stmtCalls) els
   GFor _ _ _ _ _ b -> concatMap stmtCalls b
+  GForVar _ _ _ _ _ _ b -> concatMap stmtCalls b
   GWhile _ _ c b -> exprCalls c ++ concatMap stmtCalls b
   GRepeat _ _ c b -> exprCalls c ++ concatMap stmtCalls b
   _ -> []
@@ -1021,6 +1049,7 @@ loopVars = nub . concatMap go
       GIf arms els -> concatMap (loopVars . snd) arms ++ maybe [] loopVars els
       GCase _ arms els -> concatMap (loopVars . snd) arms ++ maybe [] loopVars els
       GFor cv t _ _ _ b -> (cv, t) : loopVars b
+      GForVar cv t _ e _ _ b -> (cv, t) : (e, t) : loopVars b
       GWhile c _ _ b -> (c, INT) : loopVars b
       GRepeat c _ _ b -> (c, INT) : loopVars b
       _ -> []
@@ -1039,6 +1068,10 @@ stmt = \case
   GIf arms els -> [If () [(toExpr c, body b) | (c, b) <- arms] (body <$> els)]
   GCase sel arms els -> [Case () (toExpr sel) [CaseArm () (map label ls) (body b) | (ls, b) <- arms] (body <$> els)]
   GFor cv t s e st b -> [For () ((), Ident cv) (intLit t s) (intLit t e) (intLit t <$> st) (body b)]
+  GForVar cv t s e k st b ->
+    [ Assign () (LVar () (Ident e)) (intLit t k)
+    , For () ((), Ident cv) (intLit t s) (var e) (intLit t <$> st) (body b)
+    ]
   GWhile c k cond b ->
     [ assignInt c 0
     , While () (EBinary () And (EBinary () Lt (var c) (intLit INT k)) (toExpr cond)) (body b ++ [increment c])
