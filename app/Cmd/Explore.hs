@@ -154,10 +154,15 @@ againstEngine o reference seed cmd = do
   let ropts = defaultRunOptions {roEngine = External cmd, roTimeout = optTimeout o}
       ask gm = askEngine ropts (explorationRequest reference (fromMaybe 1 (optCalls o)) "explore" gm)
       refOf gm = summarise gm (Right (referenceEngine [] (explorationRequest reference (fromMaybe 1 (optCalls o)) "explore" gm)))
+      -- an engine may decline a program (@unsupported@): counted, not a disagreement
+      isUnsupported = \case
+        SumUnsupported _ -> True
+        _ -> False
       differs gm = do
         e <- summarise gm <$> ask gm
-        pure (e /= refOf gm, e)
+        pure (e /= refOf gm && not (isUnsupported e), e)
   found <- newIORef (0 :: Int)
+  declined <- newIORef (0 :: Int)
   broken <- newIORef Nothing
   let isEngineError = \case
         SumEngineError _ -> True
@@ -174,6 +179,7 @@ againstEngine o reference seed cmd = do
     stop <- readIORef broken
     when (stop == Nothing) $ do
       (bad, first) <- differs gm
+      when (isUnsupported first) (modifyIORef declined (+ 1))
       if bad && isEngineError first
         then writeIORef broken (Just (s, first))
         else when bad $ do
@@ -196,11 +202,12 @@ againstEngine o reference seed cmd = do
     Just (s, SumEngineError msg) -> do
       hPutStrLn stderr ("stref explore: the engine failed on program " <> show s <> ": " <> T.unpack msg)
       pure (ExitFailure 2)
-    _ -> finish found
+    _ -> finish found declined
   where
-    finish found = do
+    finish found declined = do
       n <- readIORef found
-      putStrLn (show (optCount o) <> " programs, " <> show n <> " disagreement" <> (if n == 1 then "" else "s"))
+      u <- readIORef declined
+      putStrLn (show (optCount o) <> " programs, " <> show n <> " disagreement" <> (if n == 1 then "" else "s") <> (if u > 0 then ", " <> show u <> " unsupported by the engine" else ""))
       pure (if n == 0 then ExitSuccess else ExitFailure 1)
 
 -- | The engine's command without directories (no machine paths in cases).
