@@ -9,6 +9,7 @@ import qualified Data.Text as T
 import Stref.Checked (ArithOp (..))
 import Stref.Conversions (convert)
 import Stref.Diagnostics (RuntimeError (..))
+import Stref.Engine (referenceEngine)
 import Stref.Execution
 import Stref.Explore.Naive
 import Stref.Explore.Run
@@ -217,6 +218,14 @@ spec = describe "Laws over generated programs" $ do
           Right (_, res) -> case crError res of
             Nothing -> property True
             Just err -> counterexample (show err) (reCode err `elem` documentedErrors)
+    it "running the tree and running its printed source through the engine protocol give the same results" $
+      withMaxSuccess 40 . forAll (genModuleWith defaultGenConfig) $ \gm ->
+        let direct = either (Left . show) (Right . observeDirect gm) (runGenerated mastertoolXE gm)
+            viaEngine = summarise gm (Right (referenceEngine [] (explorationRequest mastertoolXE 1 "laws" gm)))
+         in counterexample (T.unpack (generatedSource gm)) $ case (direct, viaEngine) of
+              (Right (Observed pats (o1, o2, o3) code), SumRun ops outs code' _) ->
+                (map (fmap Right) pats, [("OUTPUT1", Just o1), ("OUTPUT2", Just o2), ("OUTPUT3", Just o3)], code) === (ops, outs, code')
+              _ -> counterexample (show (direct, viaEngine)) False
     it "name-resolution global-wins and local-wins agree when no local has a global's name" $
       withMaxSuccess 40 . forAll (genModuleWith defaultGenConfig) $ \gm ->
         let run p = observeDirect gm <$> either (Left . show) Right (runGenerated p gm)
