@@ -14,13 +14,14 @@ import qualified Cmd.Conformance
 import qualified Cmd.Coverage
 import qualified Cmd.Engine
 import qualified Cmd.Eval
+import qualified Cmd.Explore
 import qualified Cmd.Parse
 import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
 commands =
   mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
-    <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command
+    <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command <> Cmd.Explore.command
 
 main :: IO ()
 main = do
