@@ -9,9 +9,10 @@ import System.Environment (getArgs, getProgName)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
+import qualified Cmd.Parse
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty
+commands = mempty <> Cmd.Parse.command
 
 main :: IO ()
 main = do

@@ -1,0 +1,74 @@
+-- | @stref parse FILE [--ast] [--policy K=V]...@: read an ST module, print it
+-- normalised (or its syntax tree), or print the syntax error.
+module Cmd.Parse (command) where
+
+import Control.Exception (IOException, try)
+import Control.Monad (foldM)
+import qualified Data.Text as T
+import qualified Data.Text.Encoding as TE
+import qualified Data.Text.Encoding.Error as TE
+import qualified Data.ByteString as BS
+import qualified Data.Text.IO as TIO
+import Options.Applicative hiding (command)
+import qualified Options.Applicative as O
+import System.Exit
+import System.IO (hPutStrLn, stderr)
+import System.IO.Error (ioeGetErrorString, isDoesNotExistError)
+import Stref.Policy (mastertoolXE, setPolicy)
+import Stref.Syntax (Module, Pos)
+import Stref.Syntax.Parser (parseModule)
+import Stref.Syntax.Pretty (prettyModule)
+import Stref.Verification (renderError)
+
+data Options = Options
+  { _optFile :: FilePath
+  , _optAst :: Bool
+  , _optPolicies :: [String]
+  }
+
+command :: Mod CommandFields (IO ExitCode)
+command =
+  O.command "parse" $
+    info
+      (run <$> options)
+      (progDesc "Parse an ST module; print it normalised, or its syntax tree with --ast (exit 0), or the syntax error (exit 1)")
+
+options :: Parser Options
+options =
+  Options
+    <$> strArgument (metavar "FILE" <> help "The ST source file")
+    <*> switch (long "ast" <> help "Print the syntax tree instead of the normalised program")
+    <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. nested-comments=yes or elsif-keyword=ELSIF"))
+
+run :: Options -> IO ExitCode
+run (Options file ast policyArgs) =
+  case foldM applyPolicy mastertoolXE policyArgs of
+    Left msg -> usage msg
+    Right policies -> do
+      contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
+      case contents of
+        Left e
+          | isDoesNotExistError e -> usage ("cannot read " <> T.pack file <> ": there is no such file")
+          | otherwise -> usage ("cannot read " <> T.pack file <> ": " <> T.pack (ioeGetErrorString e))
+        Right bytes -> do
+          -- the manuals' sources are Latin-1 or UTF-8; bad bytes become U+FFFD,
+          -- which the lexer reports as an invalid character outside comments
+          let source = TE.decodeUtf8With TE.lenientDecode bytes
+          case parseModule policies file source of
+            Left err -> do
+              TIO.hPutStr stderr (renderError file source err)
+              pure (ExitFailure 1)
+            Right m -> do
+              if ast
+                then putStrLn (show (m :: ModulePos))
+                else TIO.putStr (prettyModule m)
+              pure ExitSuccess
+  where
+    applyPolicy p kv = case T.breakOn "=" (T.pack kv) of
+      (k, v) | not (T.null v) -> setPolicy k (T.drop 1 v) p
+      _ -> Left ("--policy takes K=V, not '" <> T.pack kv <> "'")
+    usage msg = do
+      hPutStrLn stderr ("stref parse: " <> T.unpack msg)
+      pure (ExitFailure 2)
+
+type ModulePos = Module Pos
