@@ -9,10 +9,11 @@ import System.Environment (getArgs, getProgName)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
+import qualified Cmd.Check
 import qualified Cmd.Parse
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty <> Cmd.Parse.command
+commands = mempty <> Cmd.Parse.command <> Cmd.Check.command
 
 main :: IO ()
 main = do
