@@ -10,10 +10,12 @@ import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
 import qualified Cmd.Check
+import qualified Cmd.Eval
 import qualified Cmd.Parse
+import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty <> Cmd.Parse.command <> Cmd.Check.command
+commands = mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
 
 main :: IO ()
 main = do

@@ -1,6 +1,27 @@
 -- | One module call (MT-EXEC-9): the pure function from the checked module,
 -- the controller's state and the call's inputs to the new state, the output
--- signals and the diagnostics. STUB: owned by the interpreter work.
+-- signals and the diagnostics.
+--
+-- The life cycle of a call:
+--
+-- 0. INPUT1 FALSE: the module does not run (MT-SIG-3); nothing changes and
+--    OUTPUT1..3 read FALSE.
+-- 1. Checks before the first statement, with the line of decision A2: every
+--    mapped operand is declared (2000-2002, MT-MAP-8, MT-MAP-10), then the CHF
+--    parameters (2003-2012, MT-PARAM-3..7).
+-- 2. The data area is initialised (every call, or only the first under
+--    @lifetime = retained@), mapped variables with an initialiser are
+--    written (decision A3), VAR_OUTPUT start at their default (A21);
+--    VAR_INPUT and VAR_IN_OUT are copied in from the CHF inputs.
+-- 3. OUTPUT1 := TRUE, OUTPUT2 := OUTPUT3 := FALSE (MT-SIG-4),
+--    INTERNAL_OVERFLOW := FALSE (A5).
+-- 4. The PROGRAM body runs.
+-- 5. Normal end (RETURN included, MT-STMT-5): VAR_IN_OUT are copied back,
+--    VAR_OUTPUT written to the CHF outputs, diagnostics [-32768,0,0,0,0]
+--    (MT-DIAG-4, A29).
+-- 6. Runtime error: the call stops at once (MT-EXEC-8), diagnostics [line,
+--    code, c1, c2, c3] (MT-DIAG-2), OUTPUT1 := FALSE (MT-SIG-5), no copy-back
+--    (A19); operand writes already made persist.
 module Stref.Execution
   ( PlcState (..)
   , initialPlcState
@@ -8,20 +29,33 @@ module Stref.Execution
   , defaultCallInput
   , CallResult (..)
   , runCall
+  , runCalls
+  , checkMappedOperands
+  , checkChfParameters
+  , ParamSource (..)
+  , diagnosticBand
+  , writeDiagnostics
   ) where
 
+import Data.Foldable (foldl')
+import qualified Data.IntMap.Strict as IM
+import Data.IntMap.Strict (IntMap)
+import qualified Data.Map.Strict as M
 import Data.Text (Text)
+import qualified Data.Text as T
 import Stref.Checked
 import Stref.Diagnostics
+import Stref.Eval
 import Stref.Operands
-import Stref.Policy (Policies)
+import Stref.Policy
+import Stref.Types
 import Stref.Values
 
 -- | What outlives a module call: the operands, and (under @lifetime =
--- retained@) the data area.
+-- retained@) the data area, slot by slot.
 data PlcState = PlcState
   { psMemory :: Memory
-  , psRetained :: Maybe [Value]
+  , psRetained :: Maybe (IntMap Value)
   }
   deriving (Eq, Show)
 
@@ -43,9 +77,250 @@ data CallResult = CallResult
   , crError :: Maybe RuntimeError
   , crVars :: [(Text, Value)] -- ^ named variables at the end of the call (arrays element-wise: @P.V[3]@)
   , crSteps :: !Int -- ^ steps used of the budget
+  , crExecuted :: !Bool -- ^ FALSE when INPUT1 was FALSE and the module did not run (MT-SIG-3)
+  , crOverflow :: !Bool -- ^ INTERNAL_OVERFLOW at the end of the call
   }
   deriving (Eq, Show)
 
+-- | Run several calls in sequence, each on the state the previous one left.
+runCalls :: Policies -> PlcConfig -> CModule -> [CallInput] -> PlcState -> (PlcState, [CallResult])
+runCalls pol cfg cm inputs st0 = go st0 inputs
+  where
+    compiled = compileModule pol cm
+    go st [] = (st, [])
+    go st (ci : rest) =
+      let (st', r) = runCompiled pol cfg cm compiled ci st
+          (stN, rs) = go st' rest
+       in (stN, r : rs)
+
 -- | Run one module call. The diagnostic band is written into the memory.
 runCall :: Policies -> PlcConfig -> CModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCall _ _ _ _ st = (st, CallResult (True, False, False) Nothing [] 0)
+runCall pol cfg cm = runCompiled pol cfg cm (compileModule pol cm)
+
+runCompiled :: Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
+runCompiled pol cfg cm compiled ci st
+  | not input1 =
+      -- MT-SIG-3: the module does not run; the outputs of the instruction
+      -- stay off and nothing else changes (not even the diagnostics)
+      (st, CallResult (False, False, False) Nothing [] 0 False False)
+  | otherwise = case checks of
+      Left err ->
+        let m = machine0 {mOutputs = (False, False, False)}
+         in finish (psRetained st) (Left err) m
+      Right sources -> case runExec (prepare sources >> cmBody compiled) env machine0 of
+        Done _ m -> finish (keep m) (Right ()) (copyBack sources m)
+        Failed err m -> finish (keep m) (Left err) m
+  where
+    (input1, _, _) = ciInputs ci
+    env = Env (ciInputs ci) 0
+    prog = cmProgram cm
+    firstCall = case psRetained st of
+      Nothing -> True
+      Just _ -> False
+    retainedData = case (pLifetime pol, psRetained st) of
+      (Retained, Just d) -> d
+      _ -> IM.empty
+    machine0 =
+      Machine
+        { mData = retainedData
+        , mFrame = IM.empty
+        , mMemory = psMemory st
+        , mOutputs = (True, False, False) -- MT-SIG-4
+        , mOverflow = False -- A5
+        , mSteps = 0
+        }
+    lineBefore = pErrorLineBeforeStart pol -- A2
+    checks = do
+      checkMappedOperands lineBefore cfg (cmMapped cm)
+      checkChfParameters lineBefore cfg prog (ciChfIn ci) (ciChfOut ci)
+    initialise = pLifetime pol == PerCall || firstCall
+    prepare sources = do
+      if initialise
+        then do
+          mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
+          mapM_ initVar (cmInits cm)
+        else pure ()
+      -- VAR_INPUT and VAR_IN_OUT: copied in on every call (MT-PARAM-3, MT-PARAM-5)
+      memory <- machineMemory
+      mapM_ (copyIn memory) (zip (cpInputs prog ++ cpInOuts prog) sources)
+    copyIn memory (v, src) =
+      mapM_ (\k -> writeElement v k (sourceRead memory src (varBasicType v) k)) [0 .. varElements v - 1]
+    copyBack sources m =
+      -- MT-PARAM-5: VAR_IN_OUT back to their operands, then VAR_OUTPUT to
+      -- the CHF outputs (so an output wins when both name one operand)
+      let inOutSources = drop (length (cpInputs prog)) sources
+          pairs =
+            zip (cpInOuts prog) inOutSources
+              ++ zip (cpOutputs prog) (outputSources (ciChfOut ci))
+          writeBack mem (v, src) =
+            foldl'
+              (\mm k -> sourceWrite src k (readNow m v k) mm)
+              mem
+              [0 .. varElements v - 1]
+       in m {mMemory = foldl' writeBack (mMemory m) pairs}
+    readNow m v k = case runExec (readElement v k) env m of
+      Done x _ -> x
+      Failed _ _ -> defaultValue (varBasicType v)
+    keep m = case pLifetime pol of
+      Retained -> Just (mData m)
+      PerCall -> Nothing
+    finish retained result m =
+      let (band, err, outs) = case result of
+            Right () -> (noErrorBand, Nothing, mOutputs m)
+            Left e -> (errorBand e, Just e, clearOutput1 (mOutputs m))
+          mem' = writeDiagnostics cfg band (mMemory m)
+          m' = m {mMemory = mem', mOutputs = outs}
+          st' =
+            PlcState
+              { psMemory = mem'
+              , psRetained = retained
+              }
+       in (st', CallResult outs err (namedValues env m' cm) (mSteps m') True (mOverflow m'))
+    clearOutput1 (_, b, c) = (False, b, c)
+    machineMemory = Exec $ \_ m -> Done (mMemory m) m
+
+-- | The values of the observable variables (arrays element by element).
+namedValues :: Env -> Machine -> CModule -> [(Text, Value)]
+namedValues env m cm = concatMap one (cmNamed cm)
+  where
+    one (name, v) = case varType v of
+      Basic _ -> [(name, get v 0)]
+      Array lo _ _ ->
+        [ (name <> "[" <> T.pack (show (lo + toInteger k)) <> "]", get v k)
+        | k <- [0 .. varElements v - 1]
+        ]
+    get v k = case runExec (readElement v k) env m of
+      Done x _ -> x
+      Failed _ _ -> defaultValue (varBasicType v)
+
+-- | The five diagnostic operands (MT-DIAG-2).
+diagnosticBand :: PlcConfig -> [Operand]
+diagnosticBand cfg = [OpSimple KM (plcDiagnostics cfg + i) | i <- [0 .. 4]]
+
+writeDiagnostics :: PlcConfig -> [Int] -> Memory -> Memory
+writeDiagnostics cfg band mem =
+  foldl' (\m (op, x) -> writeOperand op (integerToValue INT (toInteger x)) m) mem (zip (diagnosticBand cfg) band)
+
+--------------------------------------------------------------------------------
+-- Checks before the first statement
+
+-- | MT-MAP-8, MT-MAP-10: every mapped operand, every element of a mapped
+-- array, must be declared; the first one that is not, in declaration order,
+-- is the error: 2000 (simple operand: kind code, address), 2001 (table not
+-- declared: kind code, table), 2002 (position not declared: kind code,
+-- table, position).
+checkMappedOperands :: Int -> PlcConfig -> [Var] -> Either RuntimeError ()
+checkMappedOperands line cfg vars = mapM_ checkCell cells
+  where
+    cells =
+      [ operandCell (elementOperand op k)
+      | v <- vars
+      , Mapped op <- [varHome v]
+      , k <- [0 .. varElements v - 1]
+      ]
+    checkCell c
+      | cellDeclared cfg c = Right ()
+      | otherwise = Left (undeclaredCell line cfg c)
+
+undeclaredCell :: Int -> PlcConfig -> Cell -> RuntimeError
+undeclaredCell line cfg c = case c of
+  CellSimple _ a -> RuntimeError errOperandNotDeclared line (code, a, 0) -- MT-ERR-2000
+  CellTable k a p
+    | M.member (k, a) (plcTables cfg) -> RuntimeError errTablePositionNotDeclared line (code, a, p) -- MT-ERR-2002
+    | otherwise -> RuntimeError errTableNotDeclared line (code, a, 0) -- MT-ERR-2001
+  where
+    code = operandKindCode c
+
+-- | Where a program parameter's value comes from, or goes to.
+data ParamSource
+  = FromOperand Operand -- ^ a simple operand or table position; arrays: the first element
+  | FromConstant Value -- ^ a constant operand, already of the parameter's type
+  deriving (Eq, Show)
+
+-- | MT-PARAM-3..7: the CHF arguments against the program's parameters.
+-- Inputs are VAR_INPUT then VAR_IN_OUT, outputs the VAR_OUTPUT; the first
+-- problem in the order (input count, output count, inputs, outputs) is the
+-- error; complement 1 is the 1-based parameter number. On success: the
+-- source of every input parameter.
+checkChfParameters :: Int -> PlcConfig -> CProgram -> [ChfArg] -> [ChfArg] -> Either RuntimeError [ParamSource]
+checkChfParameters line cfg prog ins outs
+  | length ins /= length inParams = Left (runtimeError errInputCount line) -- MT-ERR-2009
+  | length outs /= length (cpOutputs prog) = Left (runtimeError errOutputCount line) -- MT-ERR-2010
+  | otherwise = do
+      srcs <- sequence (zipWith3 checkInput [1 ..] inParams ins)
+      _ <- sequence (zipWith3 checkOutput [1 ..] (cpOutputs prog) outs)
+      pure srcs
+  where
+    inParams = [(v, True) | v <- cpInputs prog] ++ [(v, False) | v <- cpInOuts prog]
+    param code n = Left (RuntimeError code line (n, 0, 0))
+    checkInput :: Int -> (Var, Bool) -> ChfArg -> Either RuntimeError ParamSource
+    checkInput n (v, isInput) arg = case arg of
+      ChfConstant kind r
+        -- MT-PARAM-6 (2), MT-PARAM-7: constants only to VAR_INPUT scalars
+        | not isInput || isArray v || not (constantFits kind (varBasicType v)) -> param errInputParameter n
+        | otherwise -> maybe (param errConstantValue n) (Right . FromConstant) (constantValue (varBasicType v) r)
+      _ -> operandParam errInputParameter errInputOperandNotDeclared errInputArrayTooShort n v arg
+    checkOutput n v arg = case arg of
+      ChfConstant {} -> param errOutputParameter n
+      _ -> operandParam errOutputParameter errOutputOperandNotDeclared errOutputArrayTooShort n v arg
+    operandParam eType eDecl eShort n v arg = case (varType v, arg) of
+      -- MT-PARAM-6 (3): no partial operands; (4): tables only to arrays
+      (_, ChfOperand OpBit {}) -> param eType n
+      (Basic t, ChfOperand op@(OpSimple _ _))
+        | not (compatibleType op t) -> param eType n -- MT-PARAM-6 (1), Table 4-8
+        | not (cellDeclared cfg (operandCell op)) -> param eDecl n -- MT-PARAM-6 (6)
+        | otherwise -> Right (FromOperand op)
+      (Basic _, _) -> param eType n
+      -- MT-PARAM-6 (5), (7): an array takes a block of simple operands or
+      -- (part of) a table, declared over its whole size
+      (Array _ _ t, ChfOperand op@(OpSimple _ _))
+        | not (compatibleType op t) -> param eType n
+        | all (cellDeclared cfg . operandCell . elementOperand op) [0 .. varElements v - 1] -> Right (FromOperand op)
+        | otherwise -> param eDecl n
+      (Array _ _ t, ChfOperand op@(OpTablePos k a p)) -> tableParam eType eDecl eShort n v t k a p op
+      (Array _ _ t, ChfTable k a) -> tableParam eType eDecl eShort n v t k a 0 (OpTablePos k a 0)
+      (Array {}, ChfConstant {}) -> param eType n
+    tableParam eType eDecl eShort n v t k a p op
+      | not (compatibleType op t) = param eType n
+      | not (M.member (k, a) (plcTables cfg)) || not (cellDeclared cfg (CellTable k a p)) = param eDecl n
+      | not (cellDeclared cfg (CellTable k a (p + varElements v - 1))) = param eShort n -- MT-ERR-2011, 2012
+      | otherwise = Right (FromOperand op)
+    isArray v = case varType v of
+      Array {} -> True
+      Basic _ -> False
+
+-- | %KM goes to %M types, %KI to %I types, %KF to %F types (Table 4-8).
+constantFits :: ConstKind -> BasicType -> Bool
+constantFits kind t = case kind of
+  KMConst -> t `elem` [INT, WORD]
+  KIConst -> t `elem` [DINT, DWORD]
+  KFConst -> t == REAL
+
+-- | MT-PARAM-7: the constant's value must fit the parameter (else 2008): an
+-- integer within the type's range, or a REAL within the binary32 range.
+constantValue :: BasicType -> Rational -> Maybe Value
+constantValue t r = case intRange t of
+  Just (lo, hi)
+    | fromInteger n == r && n >= lo && n <= hi -> Just (integerToValue t n)
+    | otherwise -> Nothing
+    where
+      n = truncate r
+  Nothing
+    | t == REAL && abs r <= toRational (3.4028235e38 :: Float) -> Just (VReal (fromRational r))
+    | otherwise -> Nothing
+
+sourceRead :: Memory -> ParamSource -> BasicType -> Int -> Value
+sourceRead mem src t k = case src of
+  FromConstant v -> v
+  FromOperand op -> readOperand mem (elementOperand op k) t
+
+sourceWrite :: ParamSource -> Int -> Value -> Memory -> Memory
+sourceWrite src k v mem = case src of
+  FromConstant _ -> mem
+  FromOperand op -> writeOperand (elementOperand op k) v mem
+
+outputSources :: [ChfArg] -> [ParamSource]
+outputSources = map $ \case
+  ChfOperand op -> FromOperand op
+  ChfTable k a -> FromOperand (OpTablePos k a 0)
+  ChfConstant _ _ -> FromConstant (VBool False)

@@ -1,0 +1,135 @@
+-- | Helpers shared by the run and eval commands: policies from K=V, reading
+-- sources, rendering values and errors.
+module Cmd.Common
+  ( applyPolicies
+  , readSource
+  , usageError
+  , parseSetting
+  , parseSetArg
+  , parseBool
+  , describeError
+  , cellText
+  , valueJson
+  ) where
+
+import Control.Exception (IOException, try)
+import Control.Monad (foldM)
+import qualified Data.Aeson as A
+import qualified Data.ByteString as BS
+import Data.Char (isDigit, toUpper)
+import Data.Scientific (fromFloatDigits)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.Encoding as TE
+import qualified Data.Text.Encoding.Error as TE
+import Data.Word (Word32)
+import Numeric (readHex)
+import System.Exit
+import System.IO (hPutStrLn, stderr)
+import Stref.Diagnostics
+import Stref.Operands
+import Stref.Policy
+import Stref.Run (Setting (..), observeOperand)
+import Stref.Values
+import Text.Read (readMaybe)
+
+-- | Apply @--policy K=V@ options to the MasterTool XE preset.
+applyPolicies :: [String] -> Either Text Policies
+applyPolicies = foldM apply mastertoolXE
+  where
+    apply p kv = case T.breakOn "=" (T.pack kv) of
+      (k, v) | not (T.null v) -> setPolicy k (T.drop 1 v) p
+      _ -> Left ("--policy takes K=V, not '" <> T.pack kv <> "'")
+
+readSource :: FilePath -> IO (Either Text Text)
+readSource file = do
+  contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
+  pure $ case contents of
+    Left e -> Left ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
+    Right bytes -> Right (TE.decodeUtf8With TE.lenientDecode bytes)
+
+usageError :: String -> Text -> IO ExitCode
+usageError cmd msg = do
+  hPutStrLn stderr ("stref " <> cmd <> ": " <> T.unpack msg)
+  pure (ExitFailure 2)
+
+parseBool :: Text -> Maybe Bool
+parseBool t = case T.toUpper t of
+  "TRUE" -> Just True
+  "FALSE" -> Just False
+  "1" -> Just True
+  "0" -> Just False
+  _ -> Nothing
+
+-- | A value as the command line writes it: TRUE/FALSE, a decimal or 16#
+-- integer, or a decimal real.
+parseSetting :: Text -> Either Text Setting
+parseSetting t0
+  | Just b <- parseBool' t = Right (SetBool b)
+  | Just h <- T.stripPrefix "16#" (T.filter (/= '_') t), [(n, "")] <- readHex (T.unpack h) = Right (SetInt n)
+  | Just n <- readMaybe (T.unpack (T.dropWhile (== '+') t)) = Right (SetInt n)
+  | T.any (\c -> c == '.' || c == 'E' || c == 'e') t, all okReal (T.unpack t), Just r <- readMaybe (fixReal (T.unpack t)) = Right (SetReal (double2Float r))
+  | otherwise = Left ("'" <> t0 <> "' is not a value (TRUE, FALSE, an integer or a real)")
+  where
+    t = T.strip t0
+    parseBool' x = case T.map toUpper x of
+      "TRUE" -> Just True
+      "FALSE" -> Just False
+      _ -> Nothing
+    okReal c = isDigit c || c `elem` ("+-.eE" :: String)
+    fixReal s = case s of
+      '+' : r -> fixReal r
+      '-' : r -> '-' : fixReal r
+      '.' : _ -> '0' : s
+      _ -> s
+    double2Float :: Double -> Float
+    double2Float = realToFrac
+
+-- | @%M0010=5@
+parseSetArg :: String -> Either Text (Operand, Setting)
+parseSetArg arg = case T.breakOn "=" (T.pack arg) of
+  (o, v) | not (T.null v) -> do
+    operand <- parseOperand o
+    s <- parseSetting (T.drop 1 v)
+    pure (operand, s)
+  _ -> Left ("--set takes OPERAND=VALUE, e.g. %M0010=5, not '" <> T.pack arg <> "'")
+
+-- | "runtime error 2020 (division by zero) at line 4, complements 0 0 0"
+describeError :: RuntimeError -> Text
+describeError (RuntimeError code line (a, b, c)) =
+  "runtime error " <> tshow code <> " (" <> describeErrorCode code <> ") at line " <> tshow line
+    <> ", complements " <> T.unwords (map tshow [a, b, c])
+
+tshow :: Show a => a -> Text
+tshow = T.pack . show
+
+-- | An operand's contents in its natural reading, with the hex pattern for
+-- integer operands.
+cellText :: Memory -> Cell -> Text
+cellText mem c = case observeOperand mem (op c) of
+  VReal r -> T.pack (show r)
+  v -> showValue v <> "  (16#" <> hex (readCell mem c) <> ")"
+  where
+    op = \case
+      CellSimple k a -> OpSimple k a
+      CellTable k a p -> OpTablePos k a p
+    hex :: Word32 -> Text
+    hex w = T.toUpper (T.pack (showHex' w))
+    showHex' w = let s = go w "" in if null s then "0" else s
+    go 0 acc = acc
+    go n acc = go (n `div` 16) ("0123456789abcdef" !! fromIntegral (n `mod` 16) : acc)
+
+-- | JSON for a value: booleans, integers, REAL as a number (or its bits when
+-- not finite).
+valueJson :: Value -> A.Value
+valueJson = \case
+  VBool b -> A.Bool b
+  VReal r
+    | isNaN r || isInfinite r -> A.object ["bits" A..= ("0x" <> T.justifyRight 8 '0' (T.pack (hexW (realBits r))))]
+    | otherwise -> A.Number (fromFloatDigits r)
+  v -> maybe A.Null (A.Number . fromInteger) (valueToInteger v)
+  where
+    hexW :: Word32 -> String
+    hexW w = if w == 0 then "0" else go w ""
+    go 0 acc = acc
+    go n acc = go (n `div` 16) ("0123456789ABCDEF" !! fromIntegral (n `mod` 16) : acc)

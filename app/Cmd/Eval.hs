@@ -1,0 +1,113 @@
+-- | @stref eval SNIPPET@: run a few statements (optionally preceded by VAR
+-- blocks) or a bare expression, wrapped into a PROGRAM; print every
+-- variable's final value and INTERNAL_OVERFLOW, or the expression's value
+-- and type. With @--compare POLICY@ the snippet runs under every alternative
+-- of that policy and the results are shown side by side.
+module Cmd.Eval (command) where
+
+import Data.List (nub)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.IO as TIO
+import Options.Applicative hiding (command)
+import qualified Options.Applicative as O
+import System.Exit
+import System.IO (stderr)
+import Cmd.Common
+import Stref.Diagnostics (RuntimeError (..))
+import Stref.Execution
+import Stref.Policy
+import Stref.Run
+import Stref.Types (typeName)
+import Stref.Values
+
+data Options = Options
+  { optSnippet :: String
+  , optCompare :: Maybe String
+  , optPolicies :: [String]
+  }
+
+command :: Mod CommandFields (IO ExitCode)
+command =
+  O.command "eval" $
+    info
+      (run <$> options)
+      ( progDesc "Run ST statements (with optional VAR ... END_VAR blocks first) or a bare expression; print the variables and INTERNAL_OVERFLOW, or the value and type. Exit 0, 1 for a rejected snippet or a runtime error, 2 for a usage error"
+      )
+
+options :: Parser Options
+options =
+  Options
+    <$> strArgument (metavar "SNIPPET" <> help "e.g. 'VAR I : INT; END_VAR I := 32767 + 1;' or '7 / 2' (write -- before a snippet that starts with -)")
+    <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "Run under every alternative of POLICY and show the results side by side"))
+    <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
+
+-- | One run's observable outcome, as lines of (label, value).
+data Observed = Observed
+  { obRows :: [(Text, Text)]
+  , obFailed :: Bool
+  }
+
+-- | The full error description, or a compact one for tables.
+observe :: Bool -> SnippetResult -> Observed
+observe full sr =
+  Observed (valueRows ++ [("INTERNAL_OVERFLOW", showValue (VBool (crOverflow r))), ("error", maybe "none" errText (crError r))]) (crError r /= Nothing)
+  where
+    r = srResult sr
+    valueRows = case srType sr of
+      Just t ->
+        [ (if isResult n then "value" else n, showValue v <> if isResult n then " : " <> typeName t else "")
+        | (n, v) <- crVars r
+        , isResult n
+        ]
+      Nothing -> [(dropProgram n, showValue v) | (n, v) <- crVars r]
+    errText e@(RuntimeError code line _)
+      | full = describeError e
+      | otherwise = T.pack (show code) <> " at line " <> T.pack (show line)
+    isResult n = "EVAL_RESULT" `T.isSuffixOf` n
+    dropProgram n = maybe n id (T.stripPrefix "EVAL." n)
+
+run :: Options -> IO ExitCode
+run o = case applyPolicies (optPolicies o) of
+  Left msg -> usageError "eval" msg
+  Right pol -> case optCompare o of
+    Nothing -> case evalSnippet pol snippet of
+      Left (src, failure) -> rejected src failure
+      Right sr -> do
+        let ob = observe True sr
+        mapM_ (\(k, v) -> TIO.putStrLn (k <> " = " <> v)) (obRows ob)
+        pure (if obFailed ob then ExitFailure 1 else ExitSuccess)
+    Just name -> case alternativesOf (T.pack name) pol of
+      Left msg -> usageError "eval" msg
+      Right alts -> do
+        let runs = [(alt, evalSnippet p snippet) | (alt, p) <- alts]
+        case [(src, f) | (_, Left (src, f)) <- runs] of
+          (src, f) : _ | all (isLeft . snd) runs -> rejected src f
+          _ -> do
+            TIO.putStr (sideBySide (T.pack name) [(alt, either (const Nothing) (Just . observe False) res) | (alt, res) <- runs])
+            pure ExitSuccess
+  where
+    snippet = T.pack (optSnippet o)
+    isLeft = either (const True) (const False)
+    rejected src failure = do
+      TIO.hPutStr stderr (renderRunFailure "<eval>" src failure)
+      pure (ExitFailure 1)
+
+-- | A table: one column per alternative, one row per observed item; rows
+-- whose values differ are marked with @*@.
+sideBySide :: Text -> [(Text, Maybe Observed)] -> Text
+sideBySide policy cols =
+  T.unlines (header : rule : map row labels)
+  where
+    labels = nub (concat [map fst (obRows ob) | (_, Just ob) <- cols])
+    cell label = \case
+      Nothing -> "(rejected)"
+      Just ob -> maybe "-" id (lookup label (obRows ob))
+    width = maximum (map T.length (policy : labels)) + 2
+    colWidth = maximum (12 : [T.length (cell l c) | l <- labels, (_, c) <- cols] ++ [T.length a | (a, _) <- cols]) + 2
+    header = "  " <> T.justifyLeft width ' ' policy <> T.concat [T.justifyLeft colWidth ' ' a | (a, _) <- cols]
+    rule = "  " <> T.replicate (width + colWidth * length cols) "-"
+    row l =
+      let vals = [cell l c | (_, c) <- cols]
+          mark = if length (nub vals) > 1 then "* " else "  "
+       in mark <> T.justifyLeft width ' ' l <> T.concat [T.justifyLeft colWidth ' ' v | v <- vals]

@@ -1,0 +1,259 @@
+-- | @stref run FILE@: verify an ST module and run it for a number of module
+-- calls on a simulated controller; print the operands that changed,
+-- OUTPUT1..3 and the diagnostic band.
+module Cmd.Run (command, PlcFile (..), readPlcFile) where
+
+import qualified Data.Aeson as A
+import qualified Data.Aeson.Key as K
+import qualified Data.Aeson.KeyMap as KM
+import qualified Data.ByteString.Lazy.Char8 as BL
+import Data.Char (isDigit)
+import Data.Foldable (toList)
+import qualified Data.Map.Strict as M
+import Data.Scientific (floatingOrInteger, toRealFloat)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.IO as TIO
+import qualified Data.Yaml as Y
+import Options.Applicative hiding (command)
+import qualified Options.Applicative as O
+import System.Exit
+import System.IO (stderr)
+import Cmd.Common
+import Stref.Checked (ModuleKind (..))
+import Stref.Diagnostics
+import Stref.Execution
+import Stref.Operands
+import Stref.Policy (Policies)
+import Stref.Run
+import Stref.Types (BasicType (INT))
+import Stref.Values
+
+data Options = Options
+  { optFile :: FilePath
+  , optCalls :: Int
+  , optModule :: String
+  , optPlc :: Maybe FilePath
+  , optSets :: [String]
+  , optInputs :: (Maybe String, Maybe String, Maybe String)
+  , optChfIn :: [String]
+  , optChfOut :: [String]
+  , optPolicies :: [String]
+  , optFormat :: String
+  }
+
+command :: Mod CommandFields (IO ExitCode)
+command =
+  O.command "run" $
+    info
+      (run <$> options)
+      ( progDesc "Verify an ST module and run it for N module calls; print the operands that changed, OUTPUT1..3 and the diagnostic band. Exit 0, 1 for a rejected module or a runtime error, 2 for a usage error"
+      )
+
+options :: Parser Options
+options =
+  Options
+    <$> strArgument (metavar "FILE" <> help "The ST module")
+    <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "Number of module calls (scan cycles)")
+    <*> strOption (long "module" <> metavar "P|F" <> value "P" <> showDefault <> help "Procedure module (CHP) or function module (CHF)")
+    <*> optional (strOption (long "plc" <> metavar "PLC.yaml" <> help "The controller: declare, diagnostics, init, chf (as in a corpus case's plc key)"))
+    <*> many (strOption (long "set" <> metavar "OPERAND=VALUE" <> help "Write an operand before the first call, e.g. %M0010=5, %M0006.6=TRUE, %F0002=2.5"))
+    <*> ( (,,)
+            <$> optional (strOption (long "input1" <> metavar "BOOL" <> help "INPUT1 on every call (default TRUE; FALSE: the module does not run)"))
+            <*> optional (strOption (long "input2" <> metavar "BOOL" <> help "INPUT2 on every call (default TRUE)"))
+            <*> optional (strOption (long "input3" <> metavar "BOOL" <> help "INPUT3 on every call (default TRUE)"))
+        )
+    <*> many (strOption (long "in" <> metavar "ARG" <> help "A CHF input parameter, in order (F modules): %M0010, %TM0010, %KM+5"))
+    <*> many (strOption (long "out" <> metavar "ARG" <> help "A CHF output parameter, in order (F modules)"))
+    <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
+    <*> strOption (long "format" <> metavar "text|json" <> value "text" <> showDefault <> help "Output format")
+
+-- | What a PLC file describes.
+data PlcFile = PlcFile
+  { pfConfig :: PlcConfig
+  , pfInit :: [(Operand, Setting)]
+  , pfChfIn :: [ChfArg]
+  , pfChfOut :: [ChfArg]
+  }
+
+run :: Options -> IO ExitCode
+run o = do
+  setup <- pure $ do
+    pol <- applyPolicies (optPolicies o)
+    kind <- case optModule o of
+      "P" -> Right ProcedureModule
+      "F" -> Right FunctionModule
+      other -> Left ("--module takes P or F, not '" <> T.pack other <> "'")
+    sets <- traverse parseSetArg (optSets o)
+    ins <- traverse (parseChfArg . T.pack) (optChfIn o)
+    outs <- traverse (parseChfArg . T.pack) (optChfOut o)
+    inputs <- let (a, b, c) = optInputs o in (,,) <$> flag "input1" a <*> flag "input2" b <*> flag "input3" c
+    fmtJson <- case optFormat o of
+      "text" -> Right False
+      "json" -> Right True
+      other -> Left ("--format takes text or json, not '" <> T.pack other <> "'")
+    if optCalls o < 0 then Left "--calls takes a number >= 0" else Right ()
+    pure (pol, kind, sets, ins, outs, inputs, fmtJson)
+  case setup of
+    Left msg -> usageError "run" msg
+    Right (pol, kind, sets, ins, outs, inputs, fmtJson) -> do
+      plcE <- maybe (pure (Right (PlcFile defaultPlcConfig [] [] []))) readPlcFile (optPlc o)
+      srcE <- readSource (optFile o)
+      case (plcE, srcE) of
+        (Left msg, _) -> usageError "run" msg
+        (_, Left msg) -> usageError "run" msg
+        (Right plc, Right src) -> do
+          let chfIn = if null ins then pfChfIn plc else ins
+              chfOut = if null outs then pfChfOut plc else outs
+              runSetup = RunSetup pol (pfConfig plc) kind (pfInit plc ++ sets)
+              calls = replicate (optCalls o) (CallSpec inputs [] chfIn chfOut)
+          case runSource runSetup (optFile o) src calls of
+            Left (BadSetting msg) -> usageError "run" msg
+            Left failure -> do
+              TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
+              pure (ExitFailure 1)
+            Right outcome -> do
+              if fmtJson then BL.putStrLn (A.encode (jsonReport pol (pfConfig plc) outcome)) else TIO.putStr (textReport (pfConfig plc) outcome)
+              pure $ if any ((/= Nothing) . crError) (roResults outcome) then ExitFailure 1 else ExitSuccess
+  where
+    flag name = \case
+      Nothing -> Right True
+      Just t -> maybe (Left ("--" <> name <> " takes TRUE or FALSE")) Right (parseBool (T.pack t))
+
+bandCells :: PlcConfig -> [Cell]
+bandCells cfg = map operandCell (diagnosticBand cfg)
+
+textReport :: PlcConfig -> RunOutcome -> Text
+textReport cfg outcome =
+  T.unlines $
+    [ "call " <> tshow k <> ": " <> callLine r | (k, r) <- zip [1 :: Int ..] (roResults outcome)]
+      ++ ["operands changed:"]
+      ++ (if null changed then ["  (none)"] else ["  " <> T.justifyLeft 14 ' ' (renderOperand (cellOperand c)) <> cellText after c | (c, _, _) <- changed])
+      ++ [ "outputs: " <> T.unwords ["OUTPUT" <> tshow i <> "=" <> showValue (VBool b) | (i, b) <- zip [1 :: Int ..] (outputsList lastOutputs)]
+         , "diagnostics " <> renderOperand (OpSimple KM (plcDiagnostics cfg)) <> "..: " <> T.unwords [tshow (signedM after c) | c <- bandCells cfg]
+         ]
+  where
+    after = psMemory (roFinal outcome)
+    changed = [ch | ch@(c, _, _) <- changedCells cfg (psMemory (roInitial outcome)) after, c `notElem` bandCells cfg]
+    lastOutputs = maybe (False, False, False) crOutputs (lastMaybe (roResults outcome))
+    callLine r
+      | not (crExecuted r) = "not executed (INPUT1 is FALSE)"
+      | otherwise = maybe "ok" describeError (crError r) <> " (" <> tshow (crSteps r) <> " steps)"
+
+signedM :: Memory -> Cell -> Integer
+signedM mem c = maybe 0 id (valueToInteger (readOperand mem (cellOperand c) INT))
+
+jsonReport :: Policies -> PlcConfig -> RunOutcome -> A.Value
+jsonReport _ cfg outcome =
+  A.object
+    [ "calls" A..= map callJson (roResults outcome)
+    , "operands" A..= A.object [K.fromText (renderOperand (cellOperand c)) A..= valueJson (observeOperand after (cellOperand c)) | (c, _, _) <- changed]
+    , "outputs" A..= outputsJson (maybe (False, False, False) crOutputs (lastMaybe (roResults outcome)))
+    , "diagnostics" A..= [signedM after c | c <- bandCells cfg]
+    , "error" A..= (errorJson <$> (lastMaybe (roResults outcome) >>= crError))
+    , "vars" A..= A.object [K.fromText n A..= valueJson v | (n, v) <- maybe [] crVars (lastMaybe (roResults outcome))]
+    ]
+  where
+    after = psMemory (roFinal outcome)
+    changed = [ch | ch@(c, _, _) <- changedCells cfg (psMemory (roInitial outcome)) after, c `notElem` bandCells cfg]
+    callJson r =
+      A.object
+        [ "executed" A..= crExecuted r
+        , "error" A..= (errorJson <$> crError r)
+        , "outputs" A..= outputsJson (crOutputs r)
+        , "steps" A..= crSteps r
+        , "internal_overflow" A..= crOverflow r
+        ]
+    errorJson (RuntimeError code line (a, b, c)) = A.object ["code" A..= code, "line" A..= line, "comp" A..= [a, b, c]]
+    outputsJson (a, b, c) = A.object ["OUTPUT1" A..= a, "OUTPUT2" A..= b, "OUTPUT3" A..= c]
+
+outputsList :: (Bool, Bool, Bool) -> [Bool]
+outputsList (a, b, c) = [a, b, c]
+
+lastMaybe :: [a] -> Maybe a
+lastMaybe [] = Nothing
+lastMaybe xs = Just (last xs)
+
+tshow :: Show a => a -> Text
+tshow = T.pack . show
+
+--------------------------------------------------------------------------------
+-- PLC files
+
+-- | Read a PLC description (YAML): @declare@, @diagnostics@, @init@, @chf@,
+-- optionally under a top-level @plc@ key (so a corpus case's metadata
+-- works). Declared kinds replace the project's default for that kind; kinds
+-- not mentioned keep the default layout.
+readPlcFile :: FilePath -> IO (Either Text PlcFile)
+readPlcFile file = do
+  r <- Y.decodeFileEither file
+  pure $ case r of
+    Left e -> Left (T.pack file <> ": " <> T.pack (Y.prettyPrintParseException e))
+    Right v -> either (Left . ((T.pack file <> ": ") <>)) Right (plcFromJson v)
+
+plcFromJson :: A.Value -> Either Text PlcFile
+plcFromJson top = do
+  o <- case top of
+    A.Object o -> Right (maybe o id (KM.lookup "plc" o >>= asObject))
+    A.Null -> Right KM.empty
+    _ -> Left "expected a mapping with declare, diagnostics, init, chf"
+  cfg0 <- maybe (Right defaultPlcConfig) (declare defaultPlcConfig) (KM.lookup "declare" o)
+  cfg <- case KM.lookup "diagnostics" o of
+    Nothing -> Right cfg0
+    Just d -> (\a -> cfg0 {plcDiagnostics = a}) <$> diagnosticsAddress d
+  inits <- maybe (Right []) settings (KM.lookup "init" o)
+  (ins, outs) <- maybe (Right ([], [])) chf (KM.lookup "chf" o)
+  pure (PlcFile cfg inits ins outs)
+  where
+    asObject = \case
+      A.Object x -> Just x
+      _ -> Nothing
+    declare cfg = \case
+      A.Object d -> foldl (\acc (k, v) -> acc >>= declareKind (K.toText k) v) (Right cfg) (KM.toList d)
+      _ -> Left "declare: expected a mapping such as {M: 2000, TM: {10: 200}}"
+    declareKind k v cfg = case (lookup k simpleKinds, lookup k tableKinds, v) of
+      (Just sk, _, A.Number n) | Right i <- (floatingOrInteger n :: Either Double Int) -> Right cfg {plcSimple = M.insert sk i (plcSimple cfg)}
+      (_, Just tk, A.Object ts) -> do
+        tables <- traverse (\(a, n) -> (,) <$> intKey a <*> intValue n) (KM.toList ts)
+        let others = M.filterWithKey (\(kind, _) _ -> kind /= tk) (plcTables cfg)
+        Right cfg {plcTables = M.union others (M.fromList [((tk, a), n) | (a, n) <- tables])}
+      _ -> Left ("declare: cannot read " <> k <> " (simple kinds take a count, tables a mapping address: positions)")
+    simpleKinds = [(simpleLetter k, k) | k <- [minBound .. maxBound]]
+    tableKinds = [(tableLetters k, k) | k <- [minBound .. maxBound]]
+    intKey a = let t = K.toText a in if not (T.null t) && T.all isDigit t then Right (read (T.unpack t)) else Left ("'" <> t <> "' is not a table address")
+    intValue = \case
+      A.Number n | Right i <- (floatingOrInteger n :: Either Double Int) -> Right i
+      _ -> Left "a table takes a number of positions"
+    diagnosticsAddress = \case
+      A.Number n | Right i <- (floatingOrInteger n :: Either Double Int) -> Right i
+      A.String s -> case parseOperand s of
+        Right (OpSimple KM a) -> Right a
+        _ -> Left ("diagnostics: '" <> s <> "' is not a %M operand")
+      _ -> Left "diagnostics: expected %Mnnnn"
+    settings = \case
+      A.Object m -> traverse (\(k, v) -> (,) <$> parseOperand (K.toText k) <*> settingFromJson v) (KM.toList m)
+      _ -> Left "init: expected a mapping from operands to values"
+    chf = \case
+      A.Object m -> (,) <$> argList (KM.lookup "in" m) <*> argList (KM.lookup "out" m)
+      A.Null -> Right ([], [])
+      _ -> Left "chf: expected {in: [...], out: [...]}"
+    argList = \case
+      Nothing -> Right []
+      Just (A.Array xs) -> traverse (\case A.String s -> parseChfArg s; _ -> Left "chf: parameters are strings such as \"%M0010\"") (toList xs)
+      Just _ -> Left "chf: expected a list"
+
+settingFromJson :: A.Value -> Either Text Setting
+settingFromJson = \case
+  A.Bool b -> Right (SetBool b)
+  A.Number n -> case floatingOrInteger n :: Either Double Integer of
+    Right i -> Right (SetInt i)
+    Left _ -> Right (SetReal (toRealFloat n))
+  A.String s -> parseSetting s
+  A.Object o | Just (A.String b) <- KM.lookup "bits" o, Just h <- T.stripPrefix "0x" (T.toLower b), [(w, "")] <- readHexW h -> Right (SetReal (realFromBits w))
+  other -> Left ("not a value: " <> T.pack (show other))
+  where
+    readHexW h = [(fromInteger n, r) | (n, r) <- readHexI (T.unpack h)]
+    readHexI s = case span (`elem` ("0123456789abcdef" :: String)) s of
+      ("", _) -> []
+      (ds, r) -> [(foldl (\acc d -> acc * 16 + toInteger (hexDigit d)) 0 ds, r)]
+    hexDigit d = length (takeWhile (/= d) "0123456789abcdef")
