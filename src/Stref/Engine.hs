@@ -87,7 +87,7 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
         _ -> Left ("the bit operand " <> renderOperand op <> " takes true or false")
       _ -> (\w -> writeCell (operandCell op) w mem) <$> scalarToCellBits op s
     observe mem result observed =
-      let res = maybe (CallResult (False, False, False) Nothing [] 0) id result
+      let res = maybe (CallResult (False, False, False) Nothing [] 0 False False) id result
           (o1, o2, o3) = crOutputs res
           operands = M.fromList [(t, readScalar mem op) | (t, op) <- observed]
           vars = M.fromList [(name, valueScalar v) | name <- obsVars (rqObserve rq), Just v <- [lookupVar name (crVars res)]]
