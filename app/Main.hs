@@ -11,11 +11,12 @@ import System.IO (hPutStrLn, stderr)
 import qualified Stref
 import qualified Cmd.Check
 import qualified Cmd.Eval
+import qualified Cmd.Fuzz
 import qualified Cmd.Parse
 import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
+commands = mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command <> Cmd.Fuzz.command
 
 main :: IO ()
 main = do
