@@ -48,7 +48,7 @@ options =
     <*> option auto (long "from" <> metavar "I" <> value 0 <> showDefault <> help "Index of the first input (to resume or reproduce input I of a seed)")
     <*> many (strOption (long "programs" <> metavar "DIR" <> help "Directory searched for .st seed programs (default: conformance and test/examples)"))
     <*> strOption (long "out" <> metavar "FILE" <> value "fuzz-failure.st" <> showDefault <> help "Where to write the shrunk input of an internal error")
-    <*> option auto (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Wall-clock guard per input; exceeding it counts as a hang")
+    <*> option auto (long "timeout" <> metavar "SECONDS" <> value 30 <> showDefault <> help "Wall-clock guard per input; exceeding it (and then three times it) counts as a hang")
     <*> option auto (long "progress" <> metavar "N" <> value 10000 <> showDefault <> help "Print progress every N inputs")
 
 run :: Options -> IO ExitCode

@@ -382,7 +382,7 @@ data Guard = Guard
   }
 
 defaultGuard :: Guard
-defaultGuard = Guard 10000000 4000000000
+defaultGuard = Guard 30000000 8000000000
 
 data Verdict
   = Fine Outcome
@@ -407,18 +407,22 @@ checkInput g bytes = do
     Right Nothing -> InternalError ("no result within " <> T.pack (show (gTimeMicros g `div` 1000000)) <> " s (a hang)")
     Right (Just o) -> Fine o
 
--- | Make a failing input smaller while it keeps failing: drop lines, then
--- tokens, then single bytes, each as long as one removal still fails.
-shrinkInput :: (ByteString -> IO Bool) -> ByteString -> IO ByteString
-shrinkInput stillFails = go
+-- | Make a failing input smaller while it keeps failing: drop halves,
+-- lines, tokens, then single bytes, each as long as one removal still fails.
+-- At most the given number of candidates are tried (a hang costs a guard's
+-- time per try).
+shrinkInput :: Int -> (ByteString -> IO Bool) -> ByteString -> IO ByteString
+shrinkInput budget0 stillFails = go budget0
   where
-    go bs = do
-      smaller <- firstFailing (candidates bs)
-      maybe (pure bs) go smaller
-    firstFailing [] = pure Nothing
-    firstFailing (c : cs) = do
-      f <- stillFails c
-      if f then pure (Just c) else firstFailing cs
+    go budget bs = do
+      (smaller, left) <- firstFailing budget (candidates bs)
+      maybe (pure bs) (go left) smaller
+    firstFailing budget [] = pure (Nothing, budget)
+    firstFailing budget (c : cs)
+      | budget <= 0 = pure (Nothing, 0)
+      | otherwise = do
+          f <- stillFails c
+          if f then pure (Just c, budget - 1) else firstFailing (budget - 1) cs
     candidates bs =
       let ls = BS.split 10 bs
           lineCuts = [BS.intercalate "\n" (deleteAt i ls) | length ls > 1, i <- [0 .. length ls - 1]]
@@ -449,14 +453,19 @@ fuzzCampaign g seeds seed from count progress = loop from
       | i >= end = pure (FuzzReport (i - from) Nothing)
       | otherwise = do
           let input = generateInput seeds (inputRng seed i)
-          v <- checkInput g input
+          v0 <- checkInput g input
+          -- a hang is confirmed with a three times longer guard, so that a
+          -- loaded machine does not count as one
+          v <- case v0 of
+            InternalError why | "no result" `T.isPrefixOf` why -> checkInput g {gTimeMicros = 3 * gTimeMicros g} input
+            _ -> pure v0
           progress i v
           case v of
             InternalError why -> do
               let failsSame b = do
                     v' <- checkInput g b
                     pure (isInternal v')
-              small <- shrinkInput failsSame input
+              small <- shrinkInput 300 failsSame input
               pure (FuzzReport (i - from + 1) (Just (i, why, input, small)))
             Fine _ -> loop (i + 1)
     isInternal = \case
