@@ -60,7 +60,7 @@ run (Options file ast policyArgs) =
               pure (ExitFailure 1)
             Right m -> do
               if ast
-                then putStrLn (show (m :: ModulePos))
+                then putStrLn (layoutShow (show (m :: ModulePos)))
                 else TIO.putStr (prettyModule m)
               pure ExitSuccess
   where
@@ -72,3 +72,36 @@ run (Options file ast policyArgs) =
       pure (ExitFailure 2)
 
 type ModulePos = Module Pos
+
+-- | The derived 'Show' text of the tree laid out one field or element per
+-- line, indented by nesting; positions stay on one line.
+layoutShow :: String -> String
+layoutShow = go []
+  where
+    go :: String -> String -> String
+    go stack = \case
+      [] -> []
+      '"' : rest -> let (lit, rest') = stringLiteral rest in '"' : lit ++ go stack rest'
+      'P' : 'o' : 's' : ' ' : '{' : rest -> oneLine "Pos {" rest
+      'I' : 'd' : 'e' : 'n' : 't' : ' ' : '{' : rest -> oneLine "Ident {" rest
+      '[' : ']' : rest -> "[]" ++ go stack rest
+      c : rest
+        | c == '{' || c == '[' -> c : newline (depth stack + 1) ++ go (c : stack) (dropWhile (== ' ') rest)
+        | c == '(' -> c : go (c : stack) rest
+        | c == '}' || c == ']' -> newline (depth stack - 1) ++ c : go (drop 1 stack) rest
+        | c == ')' -> c : go (drop 1 stack) rest
+        | c == ',', (top : _) <- stack, top /= '(' -> ',' : newline (depth stack) ++ go stack (dropWhile (== ' ') rest)
+        | otherwise -> c : go stack rest
+      where
+        -- a small record (a position, a name) stays on its line
+        oneLine open rest =
+          let (inside, rest') = break (== '}') rest
+           in open ++ inside ++ "}" ++ go stack (drop 1 rest')
+    depth = length . filter (/= '(')
+    newline n = '\n' : replicate (2 * max 0 n) ' '
+    -- the rest of a string literal, escapes included, and what follows it
+    stringLiteral = \case
+      [] -> ([], [])
+      '\\' : x : rest -> let (l, r) = stringLiteral rest in ('\\' : x : l, r)
+      '"' : rest -> ("\"", rest)
+      x : rest -> let (l, r) = stringLiteral rest in (x : l, r)

@@ -100,8 +100,10 @@ nested p = do
 ------------------------------------------------------------------------------
 -- White space and comments (MT-LEX-7, MT-LEX-8)
 
+-- | White space: space, tab and line breaks (MT-LEX-7), and the byte-order
+-- mark that editors on Windows put at the start of a file.
 isBlank :: Char -> Bool
-isBlank c = c == ' ' || c == '\t' || c == '\n' || c == '\r'
+isBlank c = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\xFEFF'
 
 -- | Characters that may start or continue a token outside comments.
 legalChar :: Char -> Bool
@@ -196,7 +198,9 @@ keyword k = label (T.unpack k) $ do
 
 -- | Words that are never names. The PT list of the manual's appendix, less
 -- the type names, the standard function names and the predeclared signals
--- (listed separately below). Two deliberate omissions: the SFC action
+-- (listed separately below). The printed typos VAR_ACESS and "RESOURCE ON
+-- END_REPEAT" are read as VAR_ACCESS (both spellings reserved) and
+-- END_RESOURCE. Two deliberate omissions: the SFC action
 -- qualifiers N R S L D P SD DS SL LD ST (the manual's own IF example declares
 -- a variable D), and END (decision A30). ELSEIF is added by policy (A1).
 keywords :: Set.Set Text
@@ -210,7 +214,7 @@ keywords =
     , "END_FUNCTION_BLOCK", "PROGRAM", "WITH", "END_PROGRAM", "READ_ONLY"
     , "READ_WRITE", "RESOURCE", "ON", "END_RESOURCE", "RETAIN", "STRUCT", "END_STRUCT", "TASK"
     , "TYPE", "END_TYPE", "VAR_IN_OUT", "VAR_OUTPUT", "VAR_EXTERNAL", "VAR_ACESS"
-    , "VAR_ACCESS", "VAR_GLOBAL", "JMP", "CAL", "RET", "ACTION", "END_ACTION", "INITIAL_STEP"
+    , "VAR_ACCESS", "JMP", "CAL", "RET", "ACTION", "END_ACTION", "INITIAL_STEP"
     , "END_STEP", "STEP", "TRANSITION", "FROM", "END_TRANSITION"
     , "BOOL", "BYTE", "WORD", "DWORD", "USINT", "INT", "DINT", "REAL"
     ]
@@ -220,7 +224,7 @@ unsupportedTypeNames :: Set.Set Text
 unsupportedTypeNames =
   Set.fromList
     [ "SINT", "UINT", "UDINT", "LINT", "ULINT", "LWORD", "LREAL", "TIME", "DATE"
-    , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "WSTRING", "ANY", "ANY_NUM"
+    , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "ANY", "ANY_NUM"
     , "ANY_REAL", "ANY_INT", "ANY_BIT", "ANY_DATE"
     ]
 
@@ -234,7 +238,7 @@ standardFunctionNames =
     [ "ABS", "SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN"
     , "SEL", "MAX", "MIN", "MIM", "LIMIT", "MUX", "LEFT", "RIGHT", "MID", "CONCAT"
     , "INSERT", "DELETE", "REPLACE", "LEN", "FIND", "ADD", "MUL", "DIV", "EXPT", "MOVE"
-    , "SHL", "SHR", "ROR", "ROL", "GT", "GE", "EQ", "LE", "LT", "NE", "TRUNC", "SUB"
+    , "SHL", "SHR", "ROR", "ROL", "GT", "GE", "EQ", "LE", "LT", "NE", "TRUNC"
     ]
 
 -- | Reserved names that denote predeclared variables: the module signals
@@ -307,7 +311,7 @@ name use = label "a name" $ do
     (WUnsupportedType, _) -> reserved "a reserved type name"
     (WInternal, _) -> reserved "reserved (names starting with INTERNAL_ belong to the controller)"
     (WStandardFunction, DeclName) -> reserved "the reserved name of a standard function"
-    (WStandardFunction, VarName) | not callFollows -> reserved "the reserved name of a standard function"
+    (WStandardFunction, _) | not callFollows -> reserved "the reserved name of a standard function"
     (WPredeclared, DeclName) -> reserved "a predeclared variable"
     _ -> pure ()
   pure (pos, Ident w)

@@ -117,6 +117,8 @@ spec = do
     it "rejects @ and a double quote" $ do
       kind (expr "a @ b") `shouldBe` Just "invalid-char"
       kind (expr "\"x\"") `shouldBe` Just "invalid-char"
+    it "takes CR LF line ends and a byte-order mark as white space" $
+      kind (parsesModule mastertoolXE "\xFEFFPROGRAM P\r\nVAR X : INT; END_VAR\r\nX := 1;\r\nEND_PROGRAM\r\n") `shouldBe` Nothing
     it "allows any character inside a comment" $
       expr "(* ação $ @ *) 5" `shouldBe` lit (LInt 5 10)
 

@@ -202,6 +202,24 @@ spec = do
     it "counts a tab as one column" $
       kindPos (modl "PROGRAM P\n\tX := 1 2;\nEND_PROGRAM") `shouldBe` Just ("unexpected-after", Pos 2 9)
 
+  describe "positions" $ do
+    it "puts statements and operands at their first token and binary operations at the operator" $
+      parseStatements mastertoolXE "  X := a +\n  -b;"
+        `shouldBe` Right
+          [ Assign
+              (Pos 1 3)
+              (LVar (Pos 1 3) (Ident "X"))
+              (EBinary (Pos 1 10) Add (EVar (Pos 1 8) (Ident "a")) (EUnary (Pos 2 3) Neg (EVar (Pos 2 4) (Ident "b"))))
+          ]
+
+  describe "standard function names (MT-OP-21)" $ do
+    it "may be called, as an expression or a statement" $ do
+      fmap (map (() <$)) (parseStatements mastertoolXE "SQRT(2); X := MAX(1, 2);")
+        `shouldBe` Right [CallStmt () (Ident "SQRT") [int 2], Assign () (LVar () (Ident "X")) (ECall () (Ident "MAX") [int 1, int 2])]
+    it "may not be assigned or read as variables" $ do
+      fmap fst (kindPos (stmts "ABS := 1;")) `shouldBe` Just "unexpected"
+      fmap fst (kindPos (stmts "X := LIMIT + 1;")) `shouldBe` Just "unexpected"
+
   describe "nesting limit" $ do
     it "refuses 1000 nested parentheses with nesting-too-deep" $
       fmap fst (kindPos (expr (T.replicate 1000 "(" <> "1" <> T.replicate 1000 ")"))) `shouldBe` Just "nesting-too-deep"

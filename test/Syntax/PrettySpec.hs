@@ -10,6 +10,7 @@ import Stref.Policy
 import Stref.Syntax
 import Stref.Syntax.Parser
 import Stref.Syntax.Pretty
+import Stref.Verification
 import Test.Hspec
 import Test.QuickCheck
 
@@ -84,8 +85,40 @@ spec = do
               ]
           )
 
+  describe "errors on damaged programs" $
+    it "have a documented kind and a position inside the text" $
+      withMaxSuccess 200 $
+        forAll genModule $ \m ->
+          let printed = prettyModule m
+           in forAll (choose (0, T.length printed)) $ \at ->
+                forAll (elements ["", "$", ";", "(*", "END_IF", ")", "_", "#", "1.", "%", "X", "2#2"]) $ \insert ->
+                  forAll (choose (0, 3)) $ \deleted ->
+                    let damaged = T.take at printed <> insert <> T.drop (at + deleted) printed
+                     in counterexample (T.unpack damaged) $ case parseModule mastertoolXE "d.st" damaged of
+                          Right _ -> property True
+                          Left e ->
+                            let Pos l c = vePos e
+                                ls = T.lines damaged
+                             in counterexample (show e) $
+                                  veKind e `elem` syntaxKinds
+                                    .&&. l >= 1
+                                    .&&. l <= length ls + 1
+                                    .&&. c >= 1
+                                    .&&. c <= 1 + maybe 0 T.length (lookupLine (l - 1) ls)
+
   describe "round trip" $ do
     it "parse (prettyExpr e) == e for generated expressions" $
       withMaxSuccess 1000 $ forAll (sized (\n -> genExpr (min 12 n))) roundTripExpr
     it "parse (prettyModule m) == m for generated modules" $
       withMaxSuccess 300 $ forAll genModule roundTripModule
+
+syntaxKinds :: [Text]
+syntaxKinds =
+  [ "invalid-char", "invalid-symbol", "comment-not-closed", "expected-token", "unexpected-after"
+  , "unexpected", "unsupported-type", "invalid-operand", "nesting-too-deep"
+  ]
+
+lookupLine :: Int -> [a] -> Maybe a
+lookupLine i xs = case drop i xs of
+  (x : _) | i >= 0 -> Just x
+  _ -> Nothing

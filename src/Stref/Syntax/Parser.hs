@@ -186,19 +186,19 @@ initializer = listInit <|> (InitExpr <$> expr)
 -- Statements (MT-STMT-1..23). Every statement ends with ';' (MT-STMT-23).
 
 statement :: Parser (Stmt Pos)
-statement =
-  label "a statement" $
-    choice
-      [ ifStmt
-      , caseStmt
-      , whileStmt
-      , repeatStmt
-      , forStmt
-      , Exit <$> getPos <* keyword "EXIT" <* semi
-      , Return <$> getPos <* keyword "RETURN" <* semi
-      , Empty <$> getPos <* symbol ";"
-      , assignOrCall
-      ]
+statement = label "a statement" $ do
+  -- dispatch on the first word instead of trying every statement in turn
+  w <- peekWord
+  case w of
+    Just "IF" -> ifStmt
+    Just "CASE" -> caseStmt
+    Just "WHILE" -> whileStmt
+    Just "REPEAT" -> repeatStmt
+    Just "FOR" -> forStmt
+    Just "EXIT" -> Exit <$> getPos <* keyword "EXIT" <* semi
+    Just "RETURN" -> Return <$> getPos <* keyword "RETURN" <* semi
+    Just _ -> assignOrCall
+    Nothing -> Empty <$> getPos <* symbol ";"
 
 semi :: Parser ()
 semi = symbol ";"
@@ -346,21 +346,50 @@ forStmt = do
 expr :: Parser (Expr Pos)
 expr = label "an expression" orLevel
   where
-    orLevel = binaryLevel [(keyword "OR", Or)] xorLevel
-    xorLevel = binaryLevel [(keyword "XOR", Xor)] andLevel
-    andLevel = binaryLevel [(keyword "AND", And), (symbol "&", And)] eqLevel -- MT-OP-14
-    eqLevel = binaryLevel [(symbol "=", Eq), (symbol "<>", Ne)] cmpLevel
-    cmpLevel = binaryLevel [(symbol "<=", Le), (symbol ">=", Ge), (symbol "<", Lt), (symbol ">", Gt)] addLevel
-    addLevel = binaryLevel [(symbol "+", Add), (symbol "-", Sub)] mulLevel
-    mulLevel = binaryLevel [(symbol "*", Mul), (symbol "/", Div), (keyword "MOD", Mod)] unary
+    orLevel = binaryLevel [Or] xorLevel
+    xorLevel = binaryLevel [Xor] andLevel
+    andLevel = binaryLevel [And] eqLevel -- AND and & (MT-OP-14)
+    eqLevel = binaryLevel [Eq, Ne] cmpLevel
+    cmpLevel = binaryLevel [Lt, Gt, Le, Ge] addLevel
+    addLevel = binaryLevel [Add, Sub] mulLevel
+    mulLevel = binaryLevel [Mul, Div, Mod] unary
 
 -- | One precedence level, folded to the left: @10 - 4 - 3@ is @(10 - 4) - 3@.
--- The node's position is that of the operator.
-binaryLevel :: [(Parser (), BinOp)] -> Parser (Expr Pos) -> Parser (Expr Pos)
+-- The node's position is that of the operator. The operator is recognised
+-- by looking at the input once, which keeps the seven levels cheap.
+binaryLevel :: [BinOp] -> Parser (Expr Pos) -> Parser (Expr Pos)
 binaryLevel ops next = next >>= rest
   where
-    rest l = (do (pos, op) <- operator; r <- nested next; rest (EBinary pos op l r)) <|> pure l
-    operator = label "an operator" (choice [(,o) <$> getPos <* p | (p, o) <- ops])
+    rest l = do
+      input <- getInput
+      case binaryOperatorAt input of
+        Just (op, len) | op `elem` ops -> do
+          pos <- getPos
+          _ <- takeP Nothing len
+          sc
+          r <- nested next
+          rest (EBinary pos op l r)
+        _ -> label "an operator" empty <|> pure l
+
+-- | The binary operator at the start of a text, and its length.
+binaryOperatorAt :: Text -> Maybe (BinOp, Int)
+binaryOperatorAt t = case T.unpack (T.take 2 t) of
+  '<' : '=' : _ -> Just (Le, 2)
+  '<' : '>' : _ -> Just (Ne, 2)
+  '>' : '=' : _ -> Just (Ge, 2)
+  '<' : _ -> Just (Lt, 1)
+  '>' : _ -> Just (Gt, 1)
+  '=' : _ -> Just (Eq, 1)
+  '+' : _ -> Just (Add, 1)
+  '-' : _ -> Just (Sub, 1)
+  '*' : _ -> Just (Mul, 1)
+  '/' : _ -> Just (Div, 1)
+  '&' : _ -> Just (And, 1)
+  c : _
+    | isWordStart c ->
+        let w = T.takeWhile isWordChar t
+         in (,T.length w) <$> lookup (T.toUpper w) [("AND", And), ("OR", Or), ("XOR", Xor), ("MOD", Mod)]
+  _ -> Nothing
 
 unary :: Parser (Expr Pos)
 unary = do
