@@ -63,6 +63,9 @@ spec = describe "Check: elaboration" $ do
       stmtOf "R := ANY_TO_REAL(5);" `shouldReturn` [SAssign 5 (LTVar r) (CConv INT REAL (CLit (VInt 5)))]
       stmtOf "R := ANY_TO_REAL(70000);" `shouldReturn` [SAssign 5 (LTVar r) (CConv DINT REAL (CLit (VDInt 70000)))]
       stmtOf "R := ANY_TO_REAL(3000000000);" `shouldReturn` [SAssign 5 (LTVar r) (CConv DWORD REAL (CLit (VDWord 3000000000)))]
+    it "folds the sign into a real literal, keeping -0.0 (MT-LEX-19)" $ do
+      stmtOf "R := -1.5;" `shouldReturn` [SAssign 5 (LTVar r) (CLit (VReal (-1.5)))]
+      stmtOf "R := -0.0;" `shouldReturn` [SAssign 5 (LTVar r) (CLit (VReal (realFromBits 0x80000000)))]
     it "keeps a unary minus on a variable as a node with its line" $
       stmtOf "I := -I;" `shouldReturn` [SAssign 5 (LTVar i) (CNeg 5 INT (CRead i))]
     it "types EXPT by its base, the exponent USINT (MT-OP-20)" $

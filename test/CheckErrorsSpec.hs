@@ -8,7 +8,10 @@ import Data.Containers.ListUtils (nubOrd)
 import qualified Data.Text.IO as TIO
 import Data.Text (Text)
 import qualified Data.Text as T
+import Stref.Check (checkModule)
 import Stref.Checked (ModuleKind (..))
+import Stref.Syntax (Module (..), Program (..), VarBlock (..), VarSection (..))
+import Stref.Syntax.Parser (parseModule)
 import Stref.Policy
 import Stref.Syntax (Pos (..))
 import Stref.Verification (VerificationError (..))
@@ -194,6 +197,20 @@ spec = describe "Check: verification errors" $ do
     it "rejects parameters in a P module" $ rejectsWith mastertoolXE ProcedureModule "procedure-parameters" src
     it "accepts them in an F module" $ acceptsWith mastertoolXE FunctionModule src
     it "accepts a P module whose program has only VAR" $ acceptsWith mastertoolXE ProcedureModule (program "A : INT;" "A := 1;")
+  describe "rules the parser enforces first, checked on syntax trees" $ do
+    let parsed src = either (error . show) id (parseModule mastertoolXE "t.st" src)
+        kindsOfTree = either (map veKind) (const []) . checkModule mastertoolXE FunctionModule
+    it "rejects a parameter section among the globals (misplaced-parameter-section)" $ do
+      let m = parsed ("VAR G : INT; END_VAR\n" <> program "X : INT;" "X := G;")
+          m' = m {modGlobals = [b {vbSection = SecInput} | b <- modGlobals m]}
+      kindsOfTree m `shouldBe` []
+      kindsOfTree m' `shouldContain` ["misplaced-parameter-section"]
+    it "rejects AT on a program parameter (mapping-not-allowed)" $ do
+      let m = parsed (program "X AT %M0001 : INT;" "X := 1;")
+          prog = modProgram m
+          m' = m {modProgram = prog {prBlocks = [b {vbSection = SecInOut} | b <- prBlocks prog]}}
+      kindsOfTree m `shouldBe` []
+      kindsOfTree m' `shouldContain` ["mapping-not-allowed"]
   describe "docs/diagnostics.md" $ do
     sources <- runIO (mapM TIO.readFile ["src/Stref/Check.hs", "src/Stref/Check/Monad.hs", "src/Stref/Check/Expr.hs", "src/Stref/Check/Stmt.hs", "src/Stref/Check/Const.hs"])
     doc <- runIO (TIO.readFile "docs/diagnostics.md")

@@ -23,7 +23,8 @@ literalEdges =
   , (DINT, ["-2147483648", "2147483647", "16#8000"], ["2147483648", "-2147483649", "16#FFFF_FFFF"])
   , (DWORD, ["0", "4294967295", "16#FFFF_ffff", "16#980ABE4D"], ["4294967296", "-1"])
   , (BOOL, ["0", "1", "TRUE", "FALSE"], ["2", "-1"])
-  , (REAL, ["1.5", "-1.34E-2", "0", "-32768", "1_254.4879"], [])
+  , -- an integer constant is a REAL through INT -> REAL only (MT-CONST-4, A10)
+    (REAL, ["1.5", "-1.34E-2", "0", "-32768", "32767", "1_254.4879"], ["32768", "-32769", "40000"])
   ]
 
 assignTo :: BasicType -> Text -> Text
@@ -68,6 +69,10 @@ spec = describe "Check: typing" $ do
     it "iec-widening adds USINT -> REAL" $ acceptsWith iec FunctionModule (assignVar USINT REAL)
     it "iec-widening still refuses DINT -> REAL" $ rejectsWith iec FunctionModule "impossible-conversion" (assignVar DINT REAL)
     it "codesys adds BYTE -> INT" $ acceptsWith codesys FunctionModule (assignVar BYTE INT)
+    it "codesys also accepts the integer constant 65535 as REAL (through WORD -> REAL)" $
+      acceptsWith codesys FunctionModule (assignTo REAL "65535")
+    it "codesys still refuses 65536 as REAL (no DINT -> REAL edge)" $
+      rejectsWith codesys FunctionModule "value-out-of-limits" (assignTo REAL "65536")
     it "codesys refuses the narrowing INT -> USINT" $ rejectsWith codesys FunctionModule "impossible-conversion" (assignVar INT USINT)
 
   describe "binary operands meet at a common type (MT-CONV-11 b)" $ do
@@ -113,7 +118,7 @@ spec = describe "Check: typing" $ do
     let valueOf t lit = do
           m <- elaborate (assignTo t lit)
           pure [v | SAssign _ _ (CLit v) <- cpBody (cmProgram m)]
-    it "rounds 16777217 to the nearest binary32, 16777216.0 (A10)" $ valueOf REAL "16777217" `shouldReturn` [VReal 16777216]
+    it "reads the integer constant -32768 as the REAL -32768.0 (A10)" $ valueOf REAL "-32768" `shouldReturn` [VReal (-32768)]
     it "rounds 0.1 to the binary32 16#3DCCCCCD" $ valueOf REAL "0.1" `shouldReturn` [VReal (realFromBits 0x3DCCCCCD)]
     it "rounds 1_254.4879 to 1254.4879150390625 (MT-LEX-14)" $ valueOf REAL "1_254.4879" `shouldReturn` [VReal 1254.4879150390625]
     it "folds -32768 into an INT literal (MT-LEX-19)" $ valueOf INT "-32768" `shouldReturn` [VInt (-32768)]

@@ -24,6 +24,7 @@ import qualified Data.Text as T
 import Stref.Check.Monad
 import Stref.Checked
 import Stref.Conversions
+import Stref.Numeric (fitsIn, isRealInfinite, realLiteral)
 import Stref.Policy
 import Stref.Syntax
 import Stref.Types
@@ -50,60 +51,81 @@ typedType = \case
 tname :: BasicType -> Text
 tname = typeName
 
--- | An integer literal at a type (Table 4-15, MT-CONST-1..6, MT-LEX-16, A10).
-intLitAt :: Pos -> Integer -> BasicType -> Either [VerificationError] CExpr
-intLitAt pos v t = case t of
+-- | An integer literal at a type (Table 4-15, MT-CONST-1..6, MT-LEX-16).
+-- In a REAL context it must fit an integer type that converts to REAL
+-- implicitly: INT under MasterTool (MT-CONST-4, A10), so -32768..32767.
+intLitAt :: ImplicitConversions -> Pos -> Integer -> BasicType -> Either [VerificationError] CExpr
+intLitAt policy pos v t = case t of
   REAL
-    | isInfinite r -> Left [outOfLimits]
-    | otherwise -> Right (CLit (VReal r)) -- A10, MT-CONST-4: correctly rounded to binary32
+    | null viaTypes -> Left [outOfLimits]
+    | otherwise -> Right (CLit (VReal (realLiteral (fromInteger v)))) -- exact for these ranges
   BOOL
     | v == 0 || v == 1 -> Right (CLit (VBool (v == 1))) -- MT-LEX-16
     | otherwise -> Left [outOfLimits]
   _
-    | Just (lo, hi) <- intRange t, lo <= v, v <= hi -> Right (CLit (integerToValue t v))
+    | fitsIn t v -> Right (CLit (integerToValue t v))
     | otherwise -> Left [outOfLimits] -- MT-CONST-5, A12
   where
-    r = fromRational (fromInteger v) :: Float
+    viaTypes = [s | s <- [USINT, BYTE, INT, WORD, DINT, DWORD], implicitConversion policy s REAL, fitsIn s v]
     outOfLimits =
       verificationError "value-out-of-limits" pos $
-        "the value " <> tshow v <> " is out of the limits of " <> tname t <> rangeText t
-    rangeText ty = case intRange ty of
+        "the value " <> tshow v <> " is out of the limits of " <> tname t <> rangeText
+    rangeText = case intRange t of
       Just (lo, hi) -> " (" <> tshow lo <> ".." <> tshow hi <> ")"
-      Nothing | ty == BOOL -> " (only 0 and 1 stand for FALSE and TRUE)"
-      Nothing -> ""
+      Nothing
+        | t == BOOL -> " (only 0 and 1 stand for FALSE and TRUE)"
+        | otherwise ->
+            " for an integer constant: only values of a type that converts to REAL implicitly are accepted ("
+              <> T.intercalate ", " [typeName s <> " " <> maybe "" (\(lo, hi) -> tshow lo <> ".." <> tshow hi) (intRange s) | s <- [USINT, BYTE, INT, WORD, DINT, DWORD], implicitConversion policy s REAL]
+              <> "); write it as a real constant, e.g. "
+              <> tshow v
+              <> ".0"
 
 -- | A real literal is allowed only where a REAL is expected (MT-CONST-3).
 realLitAt :: Pos -> Rational -> BasicType -> Either [VerificationError] CExpr
 realLitAt pos q t
   | t /= REAL =
       Left [verificationError "impossible-conversion" pos ("impossible to convert the REAL constant to " <> tname t <> "; a real constant can only be used with REAL operands")]
-  | isInfinite r = Left [verificationError "value-out-of-limits" pos "the real constant is out of the limits of REAL (about 3.4E38)"]
+  | isRealInfinite r = Left [verificationError "value-out-of-limits" pos "the real constant is out of the limits of REAL (about 3.4E38)"]
   | otherwise = Right (CLit (VReal r))
   where
-    r = fromRational q :: Float
+    r = realLiteral q
 
--- | A42/A11: the smallest of INT, DINT, DWORD that holds the value.
+negateLiteral :: CExpr -> CExpr
+negateLiteral = \case
+  CLit (VReal r) -> CLit (VReal (negate r))
+  e -> e
+
+-- | A11: the smallest of INT, DINT, DWORD that holds the value.
 intDefault :: Integer -> BasicType
 intDefault v = case [t | t <- [INT, DINT, DWORD], fits t] of
   (t : _) -> t
   [] -> if v < 0 then DINT else DWORD
   where
-    fits t = maybe False (\(lo, hi) -> lo <= v && v <= hi) (intRange t)
+    fits t = fitsIn t v
 
-intLiteral :: Pos -> Integer -> Typed
-intLiteral pos v = Open (Flex (intDefault v) (intLitAt pos v))
+intLiteral :: ImplicitConversions -> Pos -> Integer -> Typed
+intLiteral policy pos v = Open (Flex (intDefault v) (intLitAt policy pos v))
 
 checkExpr :: Expr Pos -> Check (Maybe Typed)
-checkExpr = \case
+checkExpr expr = do
+  policy <- asks (pImplicitConversions . envPolicies)
+  checkExprWith policy expr
+
+checkExprWith :: ImplicitConversions -> Expr Pos -> Check (Maybe Typed)
+checkExprWith policy = \case
   ELit pos lit -> pure . Just $ case lit of
-    LInt v _ -> intLiteral pos v
+    LInt v _ -> intLiteral policy pos v
     LReal q -> Open (Flex REAL (realLitAt pos q))
     LBool b -> Fixed (CLit (VBool b))
   EVar pos name -> fmap Fixed <$> readVariable pos name
   EIndex pos name idx -> fmap Fixed <$> readIndexed pos name idx
   ECall pos name args -> checkCall pos name args
   -- MT-LEX-19: a minus before an integer literal makes a negative literal
-  EUnary pos Neg (ELit _ (LInt v _)) -> pure (Just (intLiteral pos (negate v)))
+  EUnary pos Neg (ELit _ (LInt v _)) -> pure (Just (intLiteral policy pos (negate v)))
+  -- the same for a real literal: no negation at run time (so INTERNAL_OVERFLOW
+  -- is not touched, A5); the sign of -0.0 is kept
+  EUnary pos Neg (ELit _ (LReal q)) -> pure (Just (Open (Flex REAL (fmap negateLiteral . realLitAt pos q))))
   EUnary pos op e -> checkExpr e >>= maybe (pure Nothing) (unary pos op)
   EBinary pos op a b -> do
     ta <- checkExpr a
@@ -139,8 +161,15 @@ coerce pos t = \case
         | implicitConversion policy s t -> pure (Just (CConv s t e))
         | otherwise -> do
             report "impossible-conversion" pos $ -- MT-CONV-12, MT-VERR-12
-              "impossible to convert " <> tname s <> " to " <> tname t <> "; use an explicit conversion function such as " <> conversionName s t
+              "impossible to convert " <> tname s <> " to " <> tname t <> "; use the explicit conversion " <> explicitName s t <> "(...)"
             pure Nothing
+
+-- | The conversion function to suggest: the row of Table 4-6, or ANY_TO_
+-- where the row is missing (MT-CONV-7).
+explicitName :: BasicType -> BasicType -> Text
+explicitName s t = case conversionRow s t of
+  Just _ -> conversionName s t
+  Nothing -> "ANY_TO_" <> tname t
 
 readVariable :: Pos -> Ident -> Check (Maybe CExpr)
 readVariable pos name =
