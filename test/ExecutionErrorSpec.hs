@@ -133,6 +133,13 @@ spec = describe "Execution: runtime errors" $ do
     it "takes a %KM constant into a VAR_INPUT" $ do
       let (st, _) = callWith [ChfConstant KMConst 5, arg "%M0011"] [arg "%M0012"] []
       operandValue st "%M0012" INT `shouldBe` VInt 10
+    describe "a %KM constant measured against a USINT parameter (MT-PARAM-7)" $ do
+      let uv = dataVar "UV" (Basic USINT) 20
+          res = dataVar "RES" (Basic USINT) 21
+          umod = build spec0 {msInputs = [uv], msOutputs = [res], msBody = [assign 2 res (rd uv)]}
+          callU k = runWith mastertoolXE defaultPlcConfig defaultCallInput {ciChfIn = [ChfConstant KMConst k], ciChfOut = [arg "%E0001"]} initialPlcState umod
+      it "200 fits" $ operandValue (fst (callU 200)) "%E0001" USINT `shouldBe` VUSInt 200
+      it "300 does not: 2008 with comp 1 = 1" $ crError (snd (callU 300)) `shouldBe` Just (RuntimeError 2008 0 (1, 0, 0))
     let failing name ins outs expected = it name $ do
           let (st, r) = callWith ins outs []
           crError r `shouldBe` Just expected

@@ -113,7 +113,7 @@ cellText mem c = case observeOperand mem (op c) of
       CellSimple k a -> OpSimple k a
       CellTable k a p -> OpTablePos k a p
     hex :: Word32 -> Text
-    hex w = T.toUpper (T.pack (showHex' w))
+    hex w = T.justifyRight (cellWidth c `div` 4) '0' (T.toUpper (T.pack (showHex' w)))
     showHex' w = let s = go w "" in if null s then "0" else s
     go 0 acc = acc
     go n acc = go (n `div` 16) ("0123456789abcdef" !! fromIntegral (n `mod` 16) : acc)

@@ -107,6 +107,7 @@ describeErrorCode = \case
   9002 -> "division by zero (trap policy)"
   9003 -> "array index out of range (trap policy)"
   9004 -> "MOD by zero (error policy)"
+  9999 -> "internal: the checked program is inconsistent (a checker bug)"
   9005 -> "internal error: operator applied to operands of the wrong types"
   _ -> "unknown error code"
 

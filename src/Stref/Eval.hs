@@ -138,18 +138,16 @@ elementOperand op off = case op of
   OpBit k a b -> OpBit k (a + off) b -- never reached: mapped arrays are not BOOL (MT-MAP-11)
   OpTablePos k a p -> OpTablePos k a (p + off)
 
--- | Read element @off@ (0-based) of a variable; 0 for a scalar.
+-- | Read element @off@ (0-based) of a variable; 0 for a scalar. The home
+-- is inspected when the closure is built, not when it runs.
 readElement :: Var -> Int -> Exec Value
-readElement v off = Exec $ \e m -> Done (readElementPure e m v off) m
-
-readElementPure :: Env -> Machine -> Var -> Int -> Value
-readElementPure e m v off = case varHome v of
-  Data i -> IM.findWithDefault def (i + off) (mData m)
-  Frame i -> IM.findWithDefault def (i + off) (mFrame m)
-  Mapped op -> readOperand (mMemory m) (elementOperand op off) t
-  SignalInput n -> VBool (signal n (envInputs e))
-  SignalOutput n -> VBool (signal n (mOutputs m))
-  OverflowFlag -> VBool (mOverflow m)
+readElement v off = case varHome v of
+  Data i -> let k = i + off in Exec $ \_ m -> Done (IM.findWithDefault def k (mData m)) m
+  Frame i -> let k = i + off in Exec $ \_ m -> Done (IM.findWithDefault def k (mFrame m)) m
+  Mapped o -> let o' = elementOperand o off in Exec $ \_ m -> Done (readOperand (mMemory m) o' t) m
+  SignalInput n -> Exec $ \e m -> Done (VBool (signal n (envInputs e))) m
+  SignalOutput n -> Exec $ \_ m -> Done (VBool (signal n (mOutputs m))) m
+  OverflowFlag -> Exec $ \_ m -> Done (VBool (mOverflow m)) m
   where
     t = varBasicType v
     def = defaultValue t
@@ -174,13 +172,13 @@ readScalar v = readElement v 0
 -- | Write element @off@ of a variable. INPUTn are read-only (MT-SIG-2); the
 -- checker never produces such a write, and it is ignored here.
 writeElement :: Var -> Int -> Value -> Exec ()
-writeElement v off x = modifyM $ \m -> case varHome v of
-  Data i -> m {mData = IM.insert (i + off) x (mData m)}
-  Frame i -> m {mFrame = IM.insert (i + off) x (mFrame m)}
-  Mapped op -> m {mMemory = writeOperand (elementOperand op off) x (mMemory m)}
-  SignalInput _ -> m
-  SignalOutput n -> m {mOutputs = setSignal n (boolOf x) (mOutputs m)}
-  OverflowFlag -> m {mOverflow = boolOf x}
+writeElement v off = case varHome v of
+  Data i -> let k = i + off in \x -> modifyM $ \m -> m {mData = IM.insert k x (mData m)}
+  Frame i -> let k = i + off in \x -> modifyM $ \m -> m {mFrame = IM.insert k x (mFrame m)}
+  Mapped o -> let o' = elementOperand o off in \x -> modifyM $ \m -> m {mMemory = writeOperand o' x (mMemory m)}
+  SignalInput _ -> \_ -> pure ()
+  SignalOutput n -> \x -> modifyM $ \m -> m {mOutputs = setSignal n (boolOf x) (mOutputs m)}
+  OverflowFlag -> \x -> modifyM $ \m -> m {mOverflow = boolOf x}
   where
     boolOf = \case
       VBool b -> b

@@ -30,6 +30,9 @@ module Stref.Execution
   , CallResult (..)
   , runCall
   , runCalls
+  , CompiledModule
+  , compileModule
+  , runCompiled
   , checkMappedOperands
   , checkChfParameters
   , ParamSource (..)
@@ -97,6 +100,8 @@ runCalls pol cfg cm inputs st0 = go st0 inputs
 runCall :: Policies -> PlcConfig -> CModule -> CallInput -> PlcState -> (PlcState, CallResult)
 runCall pol cfg cm = runCompiled pol cfg cm (compileModule pol cm)
 
+-- | 'runCall' with a module translated beforehand by 'compileModule' under
+-- the same policies (for many calls of one module).
 runCompiled :: Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
 runCompiled pol cfg cm compiled ci st
   | not input1 =
@@ -289,12 +294,17 @@ checkChfParameters line cfg prog ins outs
       Array {} -> True
       Basic _ -> False
 
--- | %KM goes to %M types, %KI to %I types, %KF to %F types (Table 4-8).
+-- | An integer constant (%KM, %KI) goes to any integer or bit-string
+-- parameter, a real constant (%KF) to a REAL one; whether the value fits the
+-- parameter is the separate check of 2008 (MT-PARAM-7: the constant is
+-- measured against the parameter's size, not against its own kind).
 constantFits :: ConstKind -> BasicType -> Bool
 constantFits kind t = case kind of
-  KMConst -> t `elem` [INT, WORD]
-  KIConst -> t `elem` [DINT, DWORD]
+  KMConst -> integral
+  KIConst -> integral
   KFConst -> t == REAL
+  where
+    integral = t `elem` [USINT, BYTE, INT, WORD, DINT, DWORD]
 
 -- | MT-PARAM-7: the constant's value must fit the parameter (else 2008): an
 -- integer within the type's range, or a REAL within the binary32 range.

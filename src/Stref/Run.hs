@@ -170,17 +170,23 @@ checked pol kind m = either (Left . Rejected) Right (checkModule pol kind m)
 -- | Run the calls of a checked module, in order.
 runModule :: RunSetup -> CModule -> [CallSpec] -> Either RunFailure RunOutcome
 runModule setup cm calls = do
+  mapM_ declared (rsInit setup ++ concatMap csSet calls)
   mem0 <- either (Left . BadSetting) Right (applySettings (rsInit setup) emptyMemory)
   let st0 = initialPlcState {psMemory = mem0}
       go st [] = Right (st, [])
       go st (c : rest) = do
         mem <- either (Left . BadSetting) Right (applySettings (csSet c) (psMemory st))
         let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
-            (st', r) = runCall (rsPolicies setup) (rsPlc setup) cm ci st {psMemory = mem}
+            (st', r) = runCompiled (rsPolicies setup) (rsPlc setup) cm compiled ci st {psMemory = mem}
         (stN, rs) <- go st' rest
         pure (stN, r : rs)
   (final, results) <- go st0 calls
   pure (RunOutcome cm st0 results final)
+  where
+    compiled = compileModule (rsPolicies setup) cm
+    declared (o, _)
+      | cellDeclared (rsPlc setup) (operandCell o) = Right ()
+      | otherwise = Left (BadSetting (renderOperand o <> " is not declared in the controller's configuration"))
 
 -- | Parse, check and run.
 runSource :: RunSetup -> FilePath -> Text -> [CallSpec] -> Either RunFailure RunOutcome
@@ -204,6 +210,7 @@ data SnippetResult = SnippetResult
   , srType :: Maybe BasicType -- ^ of a bare expression
   , srResult :: CallResult
   }
+  deriving (Eq, Show)
 
 -- | The name of the variable that receives a bare expression's value.
 resultName :: Text
