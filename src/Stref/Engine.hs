@@ -76,7 +76,7 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
                   (st', res) = runCall pol cfg cm input st {psMemory = mem}
                in (st', Just res)
             (final, lastResult) = foldl step (initialPlcState {psMemory = initial}, Nothing) calls
-         in observe (psMemory final) lastResult observed
+         in maybe (AnswerUnsupported "the request has no calls") (observe (psMemory final) observed) lastResult
   where
     rejected (VerificationError k (Pos l _) msg) = AnswerRejected (Just l) (Just k) msg
     chfArgs (ChfRequest i o) = (,) <$> traverse parseChfArg i <*> traverse parseChfArg o
@@ -86,9 +86,8 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
         SBool b -> Right (writeOperand op (VBool b) mem)
         _ -> Left ("the bit operand " <> renderOperand op <> " takes true or false")
       _ -> (\w -> writeCell (operandCell op) w mem) <$> scalarToCellBits op s
-    observe mem result observed =
-      let res = maybe (CallResult (False, False, False) Nothing [] 0 False False) id result
-          (o1, o2, o3) = crOutputs res
+    observe mem observed res =
+      let (o1, o2, o3) = crOutputs res
           operands = M.fromList [(t, readScalar mem op) | (t, op) <- observed]
           vars = M.fromList [(name, valueScalar v) | name <- obsVars (rqObserve rq), Just v <- [lookupVar name (crVars res)]]
           err = fmap (\(RuntimeError c l (a, b, d)) -> ErrorReport c (Just l) (Just (a, b, d))) (crError res)

@@ -34,11 +34,10 @@ import Control.Monad (forM, unless, when, (<=<))
 import Data.Aeson (Value (..))
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
-import Data.Char (isDigit, toUpper)
+import Data.Char (isDigit)
 import Data.List (sortOn)
 import Data.Map.Strict (Map)
 import qualified Data.Map.Strict as M
-import Data.Maybe (fromMaybe)
 import Data.Scientific (Scientific, base10Exponent, floatingOrInteger)
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -47,7 +46,7 @@ import qualified Data.Vector as V
 import Data.Word (Word32)
 import qualified Data.Yaml as Y
 import Stref.Checked (ModuleKind (..))
-import Stref.Conformance.Protocol (Scalar (..), scalarFromFloat, scientificToFloat)
+import Stref.Conformance.Protocol (Scalar (..), bitsText, parseBits, scalarFromFloat, scientificToFloat)
 import Stref.Operands
 import Stref.Policy (Policies, PolicyInfo (..), lookupPolicy, policyTable)
 import Stref.Values (realBits)
@@ -147,20 +146,38 @@ data CaseOrigin = CaseOrigin
 
 -- | The expectation under the given policies: @expect@, then every matching
 -- @expect-if@ entry in order, each overriding the keys it states (maps are
--- merged operand by operand).
+-- merged operand by operand). An entry's verdict, stated or inferred from
+-- its keys, replaces the earlier one and drops what no longer applies: an
+-- error code under a new @ok@ or @rejected@, a @reject@ under a run.
 effectiveExpect :: Policies -> Case -> Expect
 effectiveExpect pol c = foldl merge (caseExpect c) [cdExpect d | d <- caseExpectIf c, all holds (cdWhen d)]
   where
     holds (name, choice) = maybe False (\info -> piGet info pol == choice) (lookupPolicy name)
     merge a b =
-      Expect
-        { exVerdict = maybe (exVerdict a) Just (exVerdict b)
-        , exOperands = M.union (exOperands b) (exOperands a)
-        , exVars = M.union (exVars b) (exVars a)
-        , exOutputs = M.union (exOutputs b) (exOutputs a)
-        , exError = maybe (exError a) Just (exError b)
-        , exReject = maybe (exReject a) Just (exReject b)
-        }
+      let v = entryVerdict b
+       in Expect
+            { exVerdict = maybe (exVerdict a) Just v
+            , exOperands = M.union (exOperands b) (exOperands a)
+            , exVars = M.union (exVars b) (exVars a)
+            , exOutputs = M.union (exOutputs b) (exOutputs a)
+            , exError = case (exError b, v) of
+                (Just e, _) -> Just e
+                (Nothing, Just ExpRejected) -> Nothing
+                (Nothing, Just ExpOk) | Just ErrCode {} <- exError a -> Nothing
+                _ -> exError a
+            , exReject = case (exReject b, v) of
+                (Just r, _) -> Just r
+                (Nothing, Just ExpRejected) -> exReject a
+                (Nothing, Just _) -> Nothing
+                (Nothing, Nothing) -> exReject a
+            }
+    entryVerdict b = case exVerdict b of
+      Just v -> Just v
+      Nothing
+        | Just _ <- exReject b -> Just ExpRejected
+        | Just ErrCode {} <- exError b -> Just ExpRuntimeError
+        | Just ErrNone <- exError b -> Just ExpOk
+        | otherwise -> Nothing
 
 -- | The verdict a case expects: as stated, else @rejected@ when a @reject@
 -- is stated, @runtime-error@ when an error code is stated, else @ok@.
@@ -209,14 +226,8 @@ renderExpValue = \case
   EInt n -> T.pack (show n)
   EBool b -> if b then "true" else "false"
   EReal f -> T.pack (show f)
-  EBits w -> "{bits: " <> hex8 w <> "}"
+  EBits w -> "{bits: " <> bitsText w <> "}"
   ENaN -> "nan"
-  where
-    hex8 w = T.pack ("0x" ++ pad (map toUpper (showHexW w)))
-    pad s = replicate (8 - length s) '0' ++ s
-    showHexW w = let go 0 acc = if null acc then "0" else acc
-                     go n acc = go (n `div` 16) ("0123456789abcdef" !! fromIntegral (n `mod` 16) : acc)
-                  in go (w :: Word32) ""
 
 -- * Reading the file
 
@@ -485,7 +496,7 @@ parseCase file origin knownRule src = do
         | T.toLower s `elem` ["nan", ".nan"] -> pure ENaN
       Object o
         | [(k, String s)] <- KM.toList o, k == "bits" ->
-            case parseBitsText s of
+            case parseBits s of
               Just w -> pure (EBits w)
               Nothing -> failAt p ("bits must be a hexadecimal pattern like \"0x7F7FFFFF\", not '" <> s <> "'")
       _ -> failAt p "a value is an integer, true/false, a decimal REAL, {bits: \"0x...\"} or nan"
@@ -496,13 +507,6 @@ parseCase file origin knownRule src = do
       | otherwise = case floatingOrInteger n :: Either Double Integer of
           Right i -> Right i
           Left _ -> Left (scientificToFloat n)
-
-    parseBitsText s = case T.unpack (T.toLower s) of
-      '0' : 'x' : ds
-        | not (null ds), length ds <= 8, all (`elem` ("0123456789abcdef" :: String)) ds ->
-            Just (foldl (\acc c -> acc * 16 + fromIntegral (hexDigit c)) 0 ds)
-      _ -> Nothing
-    hexDigit c = fromMaybe 0 (lookup c (zip "0123456789abcdef" [0 :: Int ..]))
 
     -- generic helpers
     objectWith p allowed v = do
@@ -552,7 +556,7 @@ parseCase file origin knownRule src = do
 -- | @expect.operands.%M0012: @ for messages.
 describePath :: Path -> Text
 describePath [] = ""
-describePath p = T.intercalate "." p <> ": "
+describePath (k : ks) = k <> T.concat [if "[" `T.isPrefixOf` x then x else "." <> x | x <- ks] <> ": "
 
 -- | The 0-based line (of the metadata text) where a path's last key is
 -- written: each key is looked for from the line of its parent on, so that

@@ -14,6 +14,8 @@ module Stref.Conformance.Protocol
   , scalarToFloat
   , scientificToFloat
   , smallInteger
+  , parseBits
+  , bitsText
   -- * Requests
   , Request (..)
   , PlcRequest (..)
@@ -81,11 +83,13 @@ instance FromJSON Scalar where
       maybe (fail ("bits must be a hexadecimal pattern like \"0x7F7FFFFF\", not " <> show s)) (pure . SBits) (parseBits s)
     v -> fail ("expected a number, true/false, {\"bits\": \"0x...\"} or \"nan\", got " <> take 60 (show v))
 
+-- | @0x7F7FFFFF@: eight upper-case hexadecimal digits.
 bitsText :: Word32 -> Text
 bitsText w = let h = showHex w "" in T.pack ("0x" ++ replicate (8 - length h) '0' ++ map toUpperHex h)
   where
     toUpperHex c = if c >= 'a' && c <= 'f' then toEnum (fromEnum c - 32) else c
 
+-- | @0x…@ with one to eight hexadecimal digits.
 parseBits :: Text -> Maybe Word32
 parseBits s = case T.unpack (T.toLower s) of
   '0' : 'x' : ds

@@ -100,15 +100,16 @@ detail = \case
 
 -- | One line per case that did not pass (filtered-out cases are only
 -- counted; with @verbose@ every case is listed), the totals per dialect,
--- area, rule and feature, and the summary line last.
+-- area, rule and feature (rules and features only where a case did not
+-- pass, unless @verbose@), and the summary line last.
 textReport :: Bool -> [CaseResult] -> Text
 textReport verbose rs =
   T.unlines $
     concatMap caseLine rs
-      ++ section "by dialect" dialectOf
-      ++ section "by area" areaOf
-      ++ section "by rule" rulesOf
-      ++ section "by feature" featuresOf
+      ++ section True "by dialect" dialectOf
+      ++ section True "by area" areaOf
+      ++ section verbose "by rule" rulesOf
+      ++ section verbose "by feature" featuresOf
       ++ [summaryLine (totals rs)]
   where
     caseLine r = case resOutcome r of
@@ -118,9 +119,15 @@ textReport verbose rs =
         | otherwise -> []
       InvalidCase e -> ["INVALID " <> e]
       o -> [T.toUpper (outcomeName o) <> " " <> resId r <> ": " <> detail o]
-    section title keys =
+    -- rules and features are many: without @verbose@ only those with a
+    -- case that did not pass are listed
+    section full title keys =
       let m = groupTotals keys rs
-       in if M.null m then [] else ("" : (title <> ":") : [("  " <> k <> ": " <> summaryLine t) | (k, t) <- M.toList m])
+          shown = [(k, t) | (k, t) <- M.toList m, full || troubled t]
+          hidden = M.size m - length shown
+          note = if hidden > 0 then " (" <> T.pack (show hidden) <> " where every case passed or was skipped are not listed; --verbose lists them)" else ""
+       in if M.null m then [] else ("" : (title <> note <> ":") : [("  " <> k <> ": " <> summaryLine t) | (k, t) <- shown])
+    troubled t = tFailed t + tUnsupported t + tEngineError t > 0
 
 totalsJson :: Totals -> Value
 totalsJson t =

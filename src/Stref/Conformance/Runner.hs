@@ -24,9 +24,10 @@ module Stref.Conformance.Runner
   , inShard
   ) where
 
-import Control.Concurrent.Async (async, cancel, mapConcurrently, wait)
+import Control.Concurrent (forkIO)
+import Control.Concurrent.Async (async, cancel, mapConcurrently, wait, waitCatch)
 import Control.Concurrent.QSem
-import Control.Exception (SomeException, bracket_, evaluate, finally, try)
+import Control.Exception (SomeException, bracket_, evaluate, try)
 import Control.Monad (void, when)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Lazy as BL
@@ -151,7 +152,8 @@ runCorpus o corpus = do
         Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known (caseId c)) 0)
         Nothing -> do
           t0 <- getMonotonicTime
-          outcome <- runOne o c
+          -- whatever goes wrong while running one case ends only that case
+          outcome <- either (\(e :: SomeException) -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> try (runOne o c)
           t1 <- getMonotonicTime
           let k = known (caseId c)
               outcome' = if k then knownFailure outcome else outcome
@@ -210,11 +212,13 @@ askEngine :: RunOptions -> Request -> IO (Either Text Answer)
 askEngine o rq = case roEngine o of
   Reference overrides -> do
     let answer = referenceEngine overrides rq
-    r <- timeout (micros (roTimeout o)) (try (evaluate (BL.length (encodeAnswer answer))))
+    -- the timeout's own exception must not be caught as a failure: 'try'
+    -- stays outside 'timeout'
+    r <- try (timeout (micros (roTimeout o)) (evaluate (BL.length (encodeAnswer answer))))
     pure $ case r of
-      Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
-      Just (Left (e :: SomeException)) -> Left ("the reference engine failed: " <> T.pack (show e))
-      Just (Right _) -> Right answer
+      Left (e :: SomeException) -> Left ("the reference engine failed: " <> T.pack (show e))
+      Right Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
+      Right (Just _) -> Right answer
   External cmd -> do
     r <- runExternal cmd (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
     pure $ r >>= \bytes -> case decodeAnswer (BL.fromStrict bytes) of
@@ -239,31 +243,38 @@ runExternal cmd seconds limit input = do
     Right (Just hin, Just hout, Just herr, ph) -> do
       pid <- getPid ph
       let killGroup = case pid of
-            Just p -> void (try (readProcessWithExitCode "/bin/sh" ["-c", "kill -KILL -- -" ++ show p ++ " 2>/dev/null"] "") :: IO (Either SomeException (ExitCode, String, String)))
+            Just p -> void (try (readProcessWithExitCode "/bin/sh" ["-c", "kill -9 -" ++ show p ++ " 2>/dev/null"] "") :: IO (Either SomeException (ExitCode, String, String)))
             Nothing -> pure ()
-      writer <- async (void (try (BL.hPut hin input >> hClose hin) :: IO (Either SomeException ())))
+      -- The pipes of a child process are blocking file descriptors: a thread
+      -- reading one cannot be interrupted, so every blocking step runs in
+      -- its own thread and only the waiting here is bounded by the timeout.
+      _ <- forkIO (void (try (BL.hPut hin input >> hClose hin) :: IO (Either SomeException ())))
       errReader <- async (drainKeeping herr 2000)
-      let conversation = do
-            out <- readLimited hout limit
-            case out of
-              Nothing -> pure (Left ("the answer exceeds " <> T.pack (show limit) <> " bytes"))
-              Just bytes -> do
-                code <- waitForProcess ph
-                errText <- wait errReader
-                pure $ case code of
-                  ExitSuccess -> Right bytes
-                  ExitFailure n
-                    | n < 0 -> Left ("the engine was killed by signal " <> T.pack (show (negate n)) <> stderrNote errText)
-                    | otherwise -> Left ("the engine exited with status " <> T.pack (show n) <> stderrNote errText)
-      result <-
-        (fromMaybe (Left ("no answer within " <> secondsText seconds)) <$> timeout (micros seconds) conversation)
-          `finally` do
-            killGroup
-            cancel writer
-            cancel errReader
-            mapM_ closeQuietly [hin, hout, herr]
-            void (try (waitForProcess ph) :: IO (Either SomeException ExitCode))
-      pure result
+      conversation <- async $ do
+        out <- readLimited hout limit
+        case out of
+          Nothing -> pure (Left ("the answer exceeds " <> T.pack (show limit) <> " bytes"))
+          Just bytes -> do
+            code <- waitForProcess ph
+            errText <- wait errReader
+            pure $ case code of
+              ExitSuccess -> Right bytes
+              ExitFailure n
+                | n < 0 -> Left ("the engine was killed by signal " <> T.pack (show (negate n)) <> stderrNote errText)
+                | otherwise -> Left ("the engine exited with status " <> T.pack (show n) <> stderrNote errText)
+      outcome <- timeout (micros seconds) (waitCatch conversation)
+      -- kill whatever is left of the engine's group, then reap and close in
+      -- the background (a read still blocked ends when the group is dead)
+      killGroup
+      _ <- forkIO $ do
+        void (try (waitForProcess ph) :: IO (Either SomeException ExitCode))
+        cancel conversation
+        cancel errReader
+        mapM_ closeQuietly [hin, hout, herr]
+      pure $ case outcome of
+        Nothing -> Left ("no answer within " <> secondsText seconds)
+        Just (Left e) -> Left ("talking to the engine failed: " <> T.pack (show e))
+        Just (Right r) -> r
     Right _ -> pure (Left "cannot start the engine: no pipes")
   where
     stderrNote t = if T.null (T.strip t) then "" else "; stderr: " <> T.strip t
