@@ -2,7 +2,8 @@
 -- bounded fuzzing, runner inputs and linear time on large files.
 module RobustnessSpec (spec) where
 
-import Control.Exception (evaluate)
+import Control.Concurrent (threadDelay)
+import Control.Exception (IOException, evaluate, try)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Char8 as BC
 import Data.Either (isRight)
@@ -175,7 +176,9 @@ spec = do
       r `shouldSatisfy` either ("no answer within" `T.isInfixOf`) (const False)
       pid <- filter (`elem` ['0' .. '9']) . BC.unpack <$> BS.readFile path
       removeQuietly path
-      alive <- doesPathExist ("/proc/" <> pid)
+      -- SIGKILL takes effect shortly after it is sent; a killed child whose
+      -- parent is gone may stay a zombie (state Z) until it is reaped
+      alive <- stillRunning (20 :: Int) pid
       (pid, alive) `shouldSatisfy` (\(p, a) -> not (null p) && not a)
 
   describe "Robustness: linear time on large files" $
@@ -213,6 +216,22 @@ cpuTime x = do
   _ <- evaluate x
   b <- getCPUTime
   pure (fromIntegral (b - a) / 1e12)
+
+stillRunning :: Int -> String -> IO Bool
+stillRunning tries pid = do
+  let stat = "/proc/" <> pid <> "/stat"
+  exists <- doesPathExist stat
+  running <-
+    if not exists
+      then pure False
+      else do
+        r <- try (BS.readFile stat) :: IO (Either IOException BS.ByteString)
+        pure $ case r of
+          Right s -> case words (drop 1 (dropWhile (/= ')') (BC.unpack s))) of
+            (state : _) -> state /= "Z" && state /= "X"
+            [] -> False
+          Left _ -> False
+  if running && tries > 0 then threadDelay 100000 >> stillRunning (tries - 1) pid else pure running
 
 removeQuietly :: FilePath -> IO ()
 removeQuietly p = do

@@ -344,7 +344,8 @@ fuzzStepBudget = 20000
 fuzzPolicies :: Policies
 fuzzPolicies = mastertoolXE {pStepBudget = fuzzStepBudget}
 
--- | Decode, parse, print, check and run (two calls) one input; the text is
+-- | Decode, parse, print, check and run (two calls) one input, a short one
+-- also as an @stref eval@ snippet; the text is
 -- everything the user could see, so forcing it forces the whole pipeline.
 -- Bytes that are not UTF-8 are also run leniently decoded, so that odd
 -- characters reach the lexer.
@@ -353,7 +354,7 @@ evaluateInput bytes = case decodeSource bytes of
   Left bad ->
     let (_, seen) = pipeline (TE.decodeUtf8With TE.lenientDecode bytes)
      in (InvalidEncoding, renderEncodingError file bad <> seen)
-  Right src -> pipeline src
+  Right src -> let (o, seen) = pipeline src in (o, seen <> snippet src)
   where
     file = "fuzz.st"
     pipeline src =
@@ -370,6 +371,12 @@ evaluateInput bytes = case decodeSource bytes of
             Right ro ->
               let codes = [fmap (\(RuntimeError c _ _) -> c) (crError r) | r <- roResults ro]
                in (Ran codes, printed <> T.pack (show (roResults ro, psMemory (roFinal ro))))
+    -- short inputs also go through @stref eval@'s wrapping
+    snippet src
+      | T.length src > 1000 = ""
+      | otherwise = case evalSnippet fuzzPolicies src of
+          Left (wrapped, f) -> renderRunFailure "<eval>" wrapped f
+          Right sr -> T.pack (show (srResult sr))
 
 ------------------------------------------------------------------------------
 -- The guard
