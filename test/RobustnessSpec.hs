@@ -28,6 +28,7 @@ import Stref.Run
 import Stref.Source
 import Stref.Syntax (posLine)
 import Stref.Syntax.Parser (parseModule)
+import Stref.Syntax.Pretty (prettyModule)
 import Stref.Values (Value (..))
 import Stref.Verification (VerificationError (..))
 
@@ -181,7 +182,7 @@ spec = do
       alive <- stillRunning (20 :: Int) pid
       (pid, alive) `shouldSatisfy` (\(p, a) -> not (null p) && not a)
 
-  describe "Robustness: linear time on large files" $
+  describe "Robustness: linear time on large files" $ do
     it "parsing and checking 1 MB takes at most about twice as long as 500 KB" $ do
       let chunk i =
             "X := X + " <> tshow (i `mod` 1000 :: Int) <> ";\nIF X > 100 THEN B := NOT B; ELSE R := R * 1.5; END_IF;\n"
@@ -194,6 +195,16 @@ spec = do
       _ <- evaluate (T.length small + T.length big)
       t1 <- cpuTime (work small)
       t2 <- cpuTime (work big)
+      (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
+    it "printing a chain of 40,000 terms takes at most about twice as long as 20,000" $ do
+      let chain n = case parseModule mastertoolXE "c.st" (program "" ("X := " <> T.intercalate " + " (replicate n "1") <> ";")) of
+            Left e -> error (show e)
+            Right m -> m
+          small = chain 20000
+          big = chain 40000
+      _ <- evaluate (length (show small) + length (show big))
+      t1 <- cpuTime (T.length (prettyModule small))
+      t2 <- cpuTime (T.length (prettyModule big))
       (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
   where
     isFine = \case
