@@ -196,6 +196,33 @@ spec = do
       t1 <- cpuTime (work small)
       t2 <- cpuTime (work big)
       (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
+    it "checking a CASE with 40,000 labels takes at most about twice as long as 20,000" $ do
+      let caseOf n = case parseModule mastertoolXE "c.st" (program "" ("CASE X OF\n" <> T.concat [tshow i <> ": X := 1;\n" | i <- [1 .. n :: Int]] <> "END_CASE;")) of
+            Left e -> error (show e)
+            Right m -> m
+          small = caseOf 20000
+          big = caseOf 40000
+          work m = either length (const 0) (checkModule mastertoolXE ProcedureModule m)
+      _ <- evaluate (length (show small) + length (show big))
+      t1 <- cpuTime (work small)
+      t2 <- cpuTime (work big)
+      (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
+    it "the first value a CASE label repeats is the smallest one used before (any ranges)" $
+      property $ \(ranges :: [(Int, Int)]) ->
+        let norm = [(min a b `mod` 50, min a b `mod` 50 + abs (a - b) `mod` 5) | (a, b) <- take 8 ranges]
+            labels = [if lo == hi then tshow lo else tshow lo <> ".." <> tshow hi | (lo, hi) <- norm]
+            src = program "" ("CASE X OF\n" <> T.concat [l <> ": X := 1;\n" | l <- labels] <> "END_CASE;")
+            -- by hand: for each label, the least of its values used by an earlier one
+            expected =
+              [ minimum used
+              | (k, (lo, hi)) <- zip [0 :: Int ..] norm
+              , let used = [v | v <- [lo .. hi], any (\(c, d) -> c <= v && v <= d) (take k norm)]
+              , not (null used)
+              ]
+            reported = case parseModule mastertoolXE "c.st" src of
+              Left _ -> Nothing
+              Right m -> Just (either (\es -> [T.takeWhile (/= ' ') (T.drop (T.length "the value ") (veMessage e)) | e <- es, veKind e == "case-value-duplicated"]) (const []) (checkModule mastertoolXE ProcedureModule m))
+         in not (null norm) ==> reported === Just (map tshow expected)
     it "printing a chain of 40,000 terms takes at most about twice as long as 20,000" $ do
       let chain n = case parseModule mastertoolXE "c.st" (program "" ("X := " <> T.intercalate " + " (replicate n "1") <> ";")) of
             Left e -> error (show e)
