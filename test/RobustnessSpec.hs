@@ -223,6 +223,22 @@ spec = do
               Left _ -> Nothing
               Right m -> Just (either (\es -> [T.takeWhile (/= ' ') (T.drop (T.length "the value ") (veMessage e)) | e <- es, veKind e == "case-value-duplicated"]) (const []) (checkModule mastertoolXE ProcedureModule m))
          in not (null norm) ==> reported === Just (map tshow expected)
+    it "checking 2000 chained functions (and rendering their errors) takes at most about twice as long as 1000" $ do
+      -- each function calls the one before it; none has an input, so each is
+      -- reported (function-without-input) and the errors are rendered
+      let chainOf n =
+            "FUNCTION F0 : INT\nF0 := 1;\nEND_FUNCTION\n"
+              <> T.concat ["FUNCTION F" <> tshow i <> " : INT\nF" <> tshow i <> " := F" <> tshow (i - 1) <> "() + 1;\nEND_FUNCTION\n" | i <- [1 .. n - 1 :: Int]]
+              <> "PROGRAM P\nVAR X : INT; END_VAR\nX := F0();\nEND_PROGRAM\n"
+          work src = case runSource defaultRunSetup "f.st" src [] of
+            Left f -> T.length (renderRunFailure "f.st" src f)
+            Right _ -> 0
+          small = chainOf 1000
+          big = chainOf 2000
+      _ <- evaluate (T.length small + T.length big)
+      t1 <- cpuTime (work small)
+      t2 <- cpuTime (work big)
+      (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
     it "printing a chain of 40,000 terms takes at most about twice as long as 20,000" $ do
       let chain n = case parseModule mastertoolXE "c.st" (program "" ("X := " <> T.intercalate " + " (replicate n "1") <> ";")) of
             Left e -> error (show e)

@@ -9,6 +9,7 @@ module Stref.Verification
   ) where
 
 import Data.Text (Text)
+import qualified Data.Sequence as Seq
 import qualified Data.Text as T
 import Stref.Syntax (Pos (..))
 
@@ -25,19 +26,27 @@ verificationError = VerificationError
 -- | @file:line:col: error: message [kind]@, then the source line and a caret
 -- under the column.
 renderError :: FilePath -> Text -> VerificationError -> Text
-renderError file source (VerificationError kind (Pos l c) msg) =
+renderError file source = renderWith (sourceLines source) file
+
+-- | Several errors; the source is split into lines once, so that many
+-- errors in a large file cost linear time.
+renderErrors :: FilePath -> Text -> [VerificationError] -> Text
+renderErrors file source = T.concat . map (renderWith (sourceLines source) file)
+
+sourceLines :: Text -> Int -> Maybe Text
+sourceLines source = let ls = Seq.fromList (T.lines source) in \l -> if l >= 1 then Seq.lookup (l - 1) ls else Nothing
+
+renderWith :: (Int -> Maybe Text) -> FilePath -> VerificationError -> Text
+renderWith lineAt file (VerificationError kind (Pos l c) msg) =
   T.unlines $
     [T.pack file <> ":" <> tshow l <> ":" <> tshow c <> ": error: " <> msg <> " [" <> kind <> "]"]
-      ++ case drop (l - 1) (T.lines source) of
-        (srcLine : _) | l >= 1 ->
+      ++ case lineAt l of
+        Just srcLine ->
           let gutter = T.pack (show l) <> " | "
            in [ gutter <> srcLine
               , T.replicate (T.length gutter) " " <> T.map (\ch -> if ch == '\t' then '\t' else ' ') (T.take (c - 1) srcLine) <> "^"
               ]
-        _ -> []
+        Nothing -> []
   where
     tshow :: Int -> Text
     tshow = T.pack . show
-
-renderErrors :: FilePath -> Text -> [VerificationError] -> Text
-renderErrors file source = T.concat . map (renderError file source)
