@@ -74,6 +74,10 @@ spec = do
       -- X starts at 0; the branch for 0 sets X to 1000 + 0
       varOf "P.X" (runIt (program "" ("IF X = -1 THEN X := 5;" <> T.concat [" ELSIF X = " <> tshow i <> " THEN X := " <> tshow (1000 + i) <> ";" | i <- [0 .. deep - 1 :: Int]] <> " END_IF;")))
         `shouldBe` Just (VDInt 1000)
+    it "10,000 nested comments (nested-comments=yes) are skipped" $ do
+      let nesting = either (error . T.unpack) id (setPolicy "nested-comments" "yes" mastertoolXE)
+          src = program "" (T.replicate deep "(*" <> T.replicate deep "*)" <> "\nX := 7;")
+      fmap (const ()) (parseModule nesting "c.st" src) `shouldBe` Right ()
     it "100,000 statements in sequence run (one step each)" $ do
       let src = program "" (T.replicate 100000 "X := X + 1;\n")
       case runSource defaultRunSetup "t.st" src [defaultCallSpec] of
