@@ -16,7 +16,9 @@ import Stref.Conformance.Report
 import Stref.Conformance.Runner
 import Stref.Engine (referenceEngine)
 import Stref.Policy (mastertoolXE)
+import System.Directory (getTemporaryDirectory, removeFile)
 import System.Exit (ExitCode (..))
+import System.FilePath ((</>))
 import System.Process (readProcessWithExitCode)
 import Test.Hspec
 
@@ -154,5 +156,15 @@ spec = describe "Conformance runner" $ do
       out `shouldSatisfy` containing "\"result\":\"fail\""
       out `shouldSatisfy` containing "\"difference\":{"
       BL.length (BLC.pack out) `shouldSatisfy` (> 0)
+
+    it "`stref conformance --output FILE` writes the report there and the summary to stdout" $ do
+      stref <- strefBinary
+      tmp <- getTemporaryDirectory
+      let file = tmp </> "stref-conformance-report.xml"
+      (_, out, _) <- readProcessWithExitCode stref ["conformance", fixtureCorpus, "--format", "junit", "--output", file] ""
+      last (lines out) `shouldBe` "6 passed, 0 failed, 0 unsupported, 0 engine-error, 0 skipped"
+      xml <- readFile file
+      length xml `seq` removeFile file
+      xml `shouldSatisfy` containing "<testsuites name=\"stref conformance\" tests=\"6\" failures=\"0\" errors=\"0\" skipped=\"0\""
   where
     containing needle hay = T.pack needle `T.isInfixOf` T.pack hay

@@ -27,7 +27,7 @@ module Stref.Conformance.Runner
 import Control.Concurrent (forkIO)
 import Control.Concurrent.Async (async, cancel, mapConcurrently, wait, waitCatch)
 import Control.Concurrent.QSem
-import Control.Exception (SomeException, bracket_, evaluate, try)
+import Control.Exception (SomeAsyncException, SomeException, bracket_, evaluate, fromException, throwIO, try)
 import Control.Monad (void, when)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Lazy as BL
@@ -153,7 +153,7 @@ runCorpus o corpus = do
         Nothing -> do
           t0 <- getMonotonicTime
           -- whatever goes wrong while running one case ends only that case
-          outcome <- either (\(e :: SomeException) -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> try (runOne o c)
+          outcome <- either (\e -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> trySync (runOne o c)
           t1 <- getMonotonicTime
           let k = known (caseId c)
               outcome' = if k then knownFailure outcome else outcome
@@ -164,6 +164,13 @@ runCorpus o corpus = do
       EngineError e -> Skipped ("known failure: engine-error: " <> e)
       InvalidCase e -> InvalidCase e
       other -> other
+
+-- | Catch what the action throws, but let cancellation and interrupts
+-- (asynchronous exceptions) through.
+trySync :: IO a -> IO (Either SomeException a)
+trySync act = try act >>= \case
+  Left e | Just (_ :: SomeAsyncException) <- fromException e -> throwIO e
+  r -> pure r
 
 -- | Run one case: build the request, ask the engine, judge the answer.
 runOne :: RunOptions -> Case -> IO Outcome
@@ -214,7 +221,7 @@ askEngine o rq = case roEngine o of
     let answer = referenceEngine overrides rq
     -- the timeout's own exception must not be caught as a failure: 'try'
     -- stays outside 'timeout'
-    r <- try (timeout (micros (roTimeout o)) (evaluate (BL.length (encodeAnswer answer))))
+    r <- trySync (timeout (micros (roTimeout o)) (evaluate (BL.length (encodeAnswer answer))))
     pure $ case r of
       Left (e :: SomeException) -> Left ("the reference engine failed: " <> T.pack (show e))
       Right Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
