@@ -5,7 +5,6 @@ module ExecutionForLawsSpec (spec) where
 
 import Execution.Build
 import Stref.Checked
-import Stref.Execution
 import Stref.Policy
 import Stref.Types
 import Stref.Values
