@@ -53,8 +53,8 @@ options =
 
 run :: Options -> IO ExitCode
 run opts
-  | optCount opts < 0 || optTimeout opts <= 0 || optProgress opts <= 0 =
-      usage "--count must be >= 0, --timeout and --progress > 0"
+  | optCount opts < 0 || optFrom opts < 0 || optTimeout opts <= 0 || optTimeout opts > 3600 || optProgress opts <= 0 =
+      usage "--count and --from take a number >= 0, --timeout 1 to 3600 seconds, --progress a number > 0"
   | otherwise = do
       seed <- maybe ((`mod` 1000000007) <$> getMonotonicTimeNSec) pure (optSeed opts)
       let dirs = if null (optSeedDirs opts) then ["conformance", "test/examples"] else optSeedDirs opts
