@@ -26,11 +26,11 @@ import Stref.Fuzz
 import Stref.Policy
 import Stref.Run
 import Stref.Source
-import Stref.Syntax (posLine)
+import Stref.Syntax (Pos (..), posLine)
 import Stref.Syntax.Parser (parseModule)
 import Stref.Syntax.Pretty (prettyModule)
 import Stref.Values (Value (..))
-import Stref.Verification (VerificationError (..))
+import Stref.Verification (VerificationError (..), renderError)
 
 program :: Text -> Text -> Text
 program decls body = "PROGRAM P\nVAR X : DINT; B : BOOL; R : REAL; " <> decls <> " END_VAR\n" <> body <> "\nEND_PROGRAM\n"
@@ -240,6 +240,38 @@ spec = do
           small = chainOf 1000
           big = chainOf 2000
       _ <- evaluate (T.length small + T.length big)
+      t1 <- cpuTime (work small)
+      t2 <- cpuTime (work big)
+      (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
+    it "rendering 2000 errors on one long line takes at most about twice as long as 1000" $ do
+      -- every 30-digit literal is out of the limits of DINT: one error each,
+      -- all on line 3 (the line is shown clipped around each column)
+      let errorsOf n = program "" ("X := " <> T.intercalate " * " (replicate n (T.replicate 30 "9")) <> ";")
+          work src = case runSource defaultRunSetup "m.st" src [] of
+            Left f -> T.length (renderRunFailure "m.st" src f)
+            Right _ -> 0
+          small = errorsOf 1000
+          big = errorsOf 2000
+      _ <- evaluate (T.length small + T.length big)
+      t1 <- cpuTime (work small)
+      t2 <- cpuTime (work big)
+      (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
+    it "a long source line is shown around the error's column" $
+      -- 200 'A's then 'B' at column 201: the window starts 80 before it
+      renderError "l.st" (T.replicate 200 "A" <> "B") (VerificationError "k" (Pos 1 201) "m")
+        `shouldBe` T.unlines
+          [ "l.st:1:201: error: m [k]"
+          , "1 | ..." <> T.replicate 80 "A" <> "B"
+          , "    " <> T.replicate 83 " " <> "^"
+          ]
+    it "checking a sum of 40,000 literals takes at most about twice as long as 20,000" $ do
+      let sumOf n = case parseModule mastertoolXE "s.st" (program "" ("X := " <> T.intercalate " + " (replicate n "1") <> ";")) of
+            Left e -> error (show e)
+            Right m -> m
+          small = sumOf 20000
+          big = sumOf 40000
+          work m = either length (const 1) (checkModule mastertoolXE ProcedureModule m)
+      _ <- evaluate (length (show small) + length (show big))
       t1 <- cpuTime (work small)
       t2 <- cpuTime (work big)
       (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
