@@ -275,6 +275,15 @@ spec = do
       t1 <- cpuTime (work small)
       t2 <- cpuTime (work big)
       (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
+    it "reading a literal of 400,000 digits takes at most about twice as long as 200,000" $ do
+      let literal n = program "" ("X := 16#" <> T.replicate n "F" <> ";")
+          work src = either (T.length . veKind) (length . show) (parseModule mastertoolXE "l.st" src)
+          small = literal 200000
+          big = literal 400000
+      _ <- evaluate (T.length small + T.length big)
+      t1 <- cpuTime (work small)
+      t2 <- cpuTime (work big)
+      (t2 / max 1e-3 t1) `shouldSatisfy` (< 3)
     it "printing a chain of 40,000 terms takes at most about twice as long as 20,000" $ do
       let chain n = case parseModule mastertoolXE "c.st" (program "" ("X := " <> T.intercalate " + " (replicate n "1") <> ";")) of
             Left e -> error (show e)
