@@ -154,11 +154,11 @@ spec = do
     it "the same seed and index give the same input" $
       generateInput ["PROGRAM P X := 1; END_PROGRAM"] (inputRng 7 42)
         `shouldBe` generateInput ["PROGRAM P X := 1; END_PROGRAM"] (inputRng 7 42)
-    it "200 inputs from the corpus and the examples end without an internal error" $ do
+    it "500 inputs from the corpus and the examples end without an internal error" $ do
       seeds <- seedPrograms
-      report <- fuzzCampaign defaultGuard seeds 20261122 0 200 (\_ _ -> pure ())
+      report <- fuzzCampaign defaultGuard seeds 20261122 0 500 (\_ _ -> pure ())
       fmap (\(i, why, _, small) -> (i, why, small)) (frFailure report) `shouldBe` Nothing
-      frRun report `shouldBe` 200
+      frRun report `shouldBe` 500
 
   describe "Robustness: runner inputs" $ do
     let origin = CaseOrigin "x/y" "mastertool-xe" "x"
