@@ -261,7 +261,7 @@ settingFromJson = \case
 -- | The results of every call are kept until the end (they are printed
 -- together), so their number is bounded (docs/robustness.md).
 maxCalls :: Int
-maxCalls = 10000000
+maxCalls = 1000000
 
 -- | A call count, read as an unbounded integer so that a huge number is
 -- refused instead of wrapping around.
