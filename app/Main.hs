@@ -10,12 +10,17 @@ import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
 import qualified Cmd.Check
+import qualified Cmd.Conformance
+import qualified Cmd.Coverage
+import qualified Cmd.Engine
 import qualified Cmd.Eval
 import qualified Cmd.Parse
 import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
-commands = mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
+commands =
+  mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
+    <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command
 
 main :: IO ()
 main = do

@@ -1,0 +1,140 @@
+-- | @stref conformance [PATH...]@: run the conformance corpus against the
+-- reference interpreter or an external engine (conformance/README.md).
+-- Exit 1 when a case failed, a case file is malformed or an engine
+-- misbehaved (known failures excepted); 2 on a usage error.
+module Cmd.Conformance (Cmd.Conformance.command) where
+
+import Cmd.PolicyOptions
+import Control.Monad (when)
+import GHC.Conc (getNumProcessors, setNumCapabilities)
+import qualified Data.ByteString.Lazy as BL
+import qualified Data.ByteString.Lazy.Char8 as BLC
+import qualified Data.Set as S
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.Encoding as TE
+import qualified Data.Text.IO as TIO
+import Options.Applicative hiding (command)
+import qualified Options.Applicative
+import Stref.Conformance.Corpus
+import Stref.Conformance.Report
+import Stref.Conformance.Runner
+import Stref.Policy (policyAssignments)
+import System.Exit
+import System.IO (stderr)
+import Text.Read (readMaybe)
+
+data Format = FormatText | FormatJson | FormatJunit
+
+data Opts = Opts
+  { oPaths :: [FilePath]
+  , oEngine :: Maybe String
+  , oPreset :: Text
+  , oPolicies :: [(Text, Text)]
+  , oJobs :: Int
+  , oShard :: Maybe (Int, Int)
+  , oFilters :: [Text]
+  , oFeatures :: [Text]
+  , oRules :: [Text]
+  , oTimeout :: Double
+  , oFormat :: Format
+  , oOutput :: Maybe FilePath
+  , oKnown :: Maybe FilePath
+  , oMaxAnswer :: Int
+  , oVerbose :: Bool
+  }
+
+command :: Mod CommandFields (IO ExitCode)
+command =
+  Options.Applicative.command
+    "conformance"
+    ( info
+        (run <$> opts)
+        (progDesc "Run the conformance corpus against the reference interpreter or an external engine")
+    )
+
+opts :: Parser Opts
+opts =
+  Opts
+    <$> many (strArgument (metavar "PATH..." <> help "Corpus directories or case files (default: conformance)"))
+    <*> optional (strOption (long "engine" <> metavar "'CMD ARGS'" <> help "External engine: a shell command started once per case (request on stdin, answer on stdout)"))
+    <*> presetOption
+    <*> policyAssignmentOption
+    <*> option positive (short 'j' <> long "jobs" <> metavar "N" <> value 1 <> showDefault <> help "Cases run in parallel")
+    <*> optional (option shard (long "shard" <> metavar "I/N" <> help "Run only part I of N (1-based) of the cases, in id order"))
+    <*> many (strOption (long "filter" <> metavar "GLOB" <> help "Run only cases whose id matches (* any text, ? one character; repeatable)"))
+    <*> many (strOption (long "feature" <> metavar "F" <> help "Run only cases tagged with this feature (repeatable)"))
+    <*> many (strOption (long "rule" <> metavar "ID" <> help "Run only cases citing this rule (repeatable)"))
+    <*> option seconds (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Time limit per case")
+    <*> option format (long "format" <> metavar "text|json|junit" <> value FormatText <> help "Report format (default text)")
+    <*> optional (strOption (long "output" <> metavar "FILE" <> help "Write the report to FILE and the text summary to stdout"))
+    <*> optional (strOption (long "known-failures" <> metavar "FILE" <> help "Case ids (one a line) whose failure is expected: reported as skipped"))
+    <*> option positive (long "max-answer-bytes" <> metavar "N" <> value (16 * 1024 * 1024) <> showDefault <> help "Largest answer accepted from an external engine")
+    <*> switch (long "verbose" <> short 'v' <> help "List every case, also passed and filtered-out ones")
+  where
+    positive = eitherReader $ \s -> case readMaybe s of
+      Just n | n >= 1 -> Right n
+      _ -> Left ("expected a positive number, not '" <> s <> "'")
+    seconds = eitherReader $ \s -> case readMaybe s :: Maybe Double of
+      Just x | x > 0 -> Right x
+      _ -> case readMaybe s :: Maybe Int of
+        Just n | n > 0 -> Right (fromIntegral n)
+        _ -> Left ("expected a positive number of seconds, not '" <> s <> "'")
+    shard = eitherReader $ \s -> case break (== '/') s of
+      (a, '/' : b) | Just i <- readMaybe a, Just n <- readMaybe b, n >= 1, i >= 1, i <= n -> Right (i, n)
+      _ -> Left ("expected I/N with 1 <= I <= N, e.g. 2/4, not '" <> s <> "'")
+    format = eitherReader $ \case
+      "text" -> Right FormatText
+      "json" -> Right FormatJson
+      "junit" -> Right FormatJunit
+      s -> Left ("expected text, json or junit, not '" <> s <> "'")
+
+usage :: Text -> IO ExitCode
+usage msg = TIO.hPutStrLn stderr ("stref conformance: " <> msg) >> pure (ExitFailure 2)
+
+run :: Opts -> IO ExitCode
+run o = case resolvePolicies (oPreset o) (oPolicies o) of
+  Left e -> usage e
+  Right policies -> do
+    known <- maybe (pure (Right S.empty)) readKnownFailures (oKnown o)
+    case known of
+      Left e -> usage e
+      Right knownSet -> do
+        let paths = if null (oPaths o) then ["conformance"] else oPaths o
+        corpus <- loadCorpus paths
+        mapM_ (TIO.hPutStrLn stderr) (corpusErrors corpus)
+        if null (corpusEntries corpus)
+          then usage ("no case files (*.st) under " <> T.intercalate ", " (map T.pack paths))
+          else do
+            let options =
+                  defaultRunOptions
+                    { roEngine = maybe (Reference []) External (oEngine o)
+                    , roPolicies = policies
+                    , roJobs = oJobs o
+                    , roShard = oShard o
+                    , roFilters = oFilters o
+                    , roFeatures = oFeatures o
+                    , roRules = oRules o
+                    , roTimeout = oTimeout o
+                    , roKnownFailures = knownSet
+                    , roMaxAnswerBytes = oMaxAnswer o
+                    }
+            -- the reference engine computes in this process: use the cores
+            cores <- getNumProcessors
+            when (oJobs o > 1) (setNumCapabilities (max 1 (min (oJobs o) cores)))
+            results <- runCorpus options corpus
+            let ids = S.fromList (map resId results)
+                staleKnown = [k | k <- S.toList knownSet, k `S.notMember` ids]
+                nowPassing = [resId r | r <- results, resKnownFailure r, Pass <- [resOutcome r]]
+                engineName = maybe "reference" T.pack (oEngine o)
+                text = textReport (oVerbose o) results
+                report = case oFormat o of
+                  FormatText -> BL.fromStrict (TE.encodeUtf8 text)
+                  FormatJson -> jsonReport engineName (policyAssignments policies) results <> "\n"
+                  FormatJunit -> junitReport results
+            mapM_ (\k -> TIO.hPutStrLn stderr ("note: known failure " <> k <> " is not among the cases run")) (if null (oFilters o) && null (oFeatures o) && null (oRules o) && oShard o == Nothing then staleKnown else [])
+            mapM_ (\k -> TIO.hPutStrLn stderr ("note: known failure " <> k <> " passes now; remove it from the list")) nowPassing
+            case oOutput o of
+              Just file -> BL.writeFile file report >> TIO.putStr text
+              Nothing -> BLC.putStr report
+            pure (if any failing results || not (null (corpusErrors corpus)) then ExitFailure 1 else ExitSuccess)

@@ -1,0 +1,223 @@
+-- | Reports of a conformance run: text for people, JSON for tools (its
+-- format is documented in conformance/README.md), JUnit XML for CI servers.
+module Stref.Conformance.Report
+  ( Totals (..)
+  , totals
+  , outcomeName
+  , failing
+  , summaryLine
+  , groupTotals
+  , textReport
+  , jsonReport
+  , junitReport
+  ) where
+
+import Data.Aeson (Value, object, (.=))
+import qualified Data.Aeson as A
+import qualified Data.ByteString.Lazy as BL
+import Data.List (foldl')
+import qualified Data.Map.Strict as M
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.Encoding as TE
+import Numeric (showFFloat)
+import Stref.Conformance.Case
+import Stref.Conformance.Runner
+
+data Totals = Totals
+  { tPassed :: !Int
+  , tFailed :: !Int
+  , tUnsupported :: !Int
+  , tEngineError :: !Int
+  , tSkipped :: !Int
+  }
+  deriving (Eq, Show)
+
+instance Semigroup Totals where
+  Totals a b c d e <> Totals a' b' c' d' e' = Totals (a + a') (b + b') (c + c') (d + d') (e + e')
+
+instance Monoid Totals where
+  mempty = Totals 0 0 0 0 0
+
+-- | The result names of the contract; a malformed case counts as failed.
+outcomeName :: Outcome -> Text
+outcomeName = \case
+  Pass -> "pass"
+  Fail _ -> "fail"
+  InvalidCase _ -> "fail"
+  Unsupported _ -> "unsupported"
+  EngineError _ -> "engine-error"
+  Skipped _ -> "skipped"
+
+count1 :: Outcome -> Totals
+count1 = \case
+  Pass -> Totals 1 0 0 0 0
+  Fail _ -> Totals 0 1 0 0 0
+  InvalidCase _ -> Totals 0 1 0 0 0
+  Unsupported _ -> Totals 0 0 1 0 0
+  EngineError _ -> Totals 0 0 0 1 0
+  Skipped _ -> Totals 0 0 0 0 1
+
+totals :: [CaseResult] -> Totals
+totals = foldMap (count1 . resOutcome)
+
+-- | Does the result make the run fail? (Known failures are already
+-- skipped; unsupported is an engine's declared limit, not a failure.)
+failing :: CaseResult -> Bool
+failing r = case resOutcome r of
+  Fail _ -> True
+  InvalidCase _ -> True
+  EngineError _ -> True
+  _ -> False
+
+-- | The last line of every text report.
+summaryLine :: Totals -> Text
+summaryLine t =
+  T.pack (show (tPassed t)) <> " passed, " <> T.pack (show (tFailed t)) <> " failed, "
+    <> T.pack (show (tUnsupported t)) <> " unsupported, " <> T.pack (show (tEngineError t)) <> " engine-error, "
+    <> T.pack (show (tSkipped t)) <> " skipped"
+
+-- | Totals per group; a case counts once in each group it belongs to.
+groupTotals :: (CaseResult -> [Text]) -> [CaseResult] -> M.Map Text Totals
+groupTotals keys = foldl' add M.empty
+  where
+    add m r = foldl' (\acc k -> M.insertWith (<>) k (count1 (resOutcome r)) acc) m (keys r)
+
+dialectOf, areaOf, rulesOf, featuresOf :: CaseResult -> [Text]
+dialectOf r = [maybe (T.takeWhile (/= '/') (resId r)) caseDialect (resCase r)]
+areaOf r = [maybe (T.takeWhile (/= '/') (resId r)) (\c -> caseDialect c <> "/" <> caseArea c) (resCase r)]
+rulesOf r = maybe [] caseRules (resCase r)
+featuresOf r = maybe [] caseFeatures (resCase r)
+
+detail :: Outcome -> Text
+detail = \case
+  Pass -> ""
+  Fail d -> dWhat d <> ": expected " <> dExpected d <> ", got " <> dActual d
+  InvalidCase e -> e
+  Unsupported e -> e
+  EngineError e -> e
+  Skipped e -> e
+
+-- | One line per case that did not pass (filtered-out cases are only
+-- counted; with @verbose@ every case is listed), the totals per dialect,
+-- area, rule and feature (rules and features only where a case did not
+-- pass, unless @verbose@), and the summary line last.
+textReport :: Bool -> [CaseResult] -> Text
+textReport verbose rs =
+  T.unlines $
+    concatMap caseLine rs
+      ++ section True "by dialect" dialectOf
+      ++ section True "by area" areaOf
+      ++ section verbose "by rule" rulesOf
+      ++ section verbose "by feature" featuresOf
+      ++ [summaryLine (totals rs)]
+  where
+    caseLine r = case resOutcome r of
+      Pass -> ["PASS " <> resId r | verbose]
+      Skipped why
+        | resKnownFailure r || verbose -> ["SKIP " <> resId r <> ": " <> why]
+        | otherwise -> []
+      InvalidCase e -> ["INVALID " <> e]
+      o -> [T.toUpper (outcomeName o) <> " " <> resId r <> ": " <> detail o]
+    -- rules and features are many: without @verbose@ only those with a
+    -- case that did not pass are listed
+    section full title keys =
+      let m = groupTotals keys rs
+          shown = [(k, t) | (k, t) <- M.toList m, full || troubled t]
+          hidden = M.size m - length shown
+          note = if hidden > 0 then " (" <> T.pack (show hidden) <> " where every case passed or was skipped are not listed; --verbose lists them)" else ""
+       in if M.null m then [] else ("" : (title <> note <> ":") : [("  " <> k <> ": " <> summaryLine t) | (k, t) <- shown])
+    troubled t = tFailed t + tUnsupported t + tEngineError t > 0
+
+totalsJson :: Totals -> Value
+totalsJson t =
+  object
+    [ "passed" .= tPassed t
+    , "failed" .= tFailed t
+    , "unsupported" .= tUnsupported t
+    , "engine-error" .= tEngineError t
+    , "skipped" .= tSkipped t
+    ]
+
+-- | The JSON report (conformance/README.md, "JSON report").
+jsonReport :: Text -> [(Text, Text)] -> [CaseResult] -> BL.ByteString
+jsonReport engine policies rs =
+  A.encode $
+    object
+      [ "protocol" .= ("stref-engine/1" :: Text)
+      , "engine" .= engine
+      , "policies" .= M.fromList policies
+      , "cases" .= map caseJson rs
+      , "totals" .= totalsJson (totals rs)
+      , "by_dialect" .= fmap totalsJson (groupTotals dialectOf rs)
+      , "by_area" .= fmap totalsJson (groupTotals areaOf rs)
+      , "by_rule" .= fmap totalsJson (groupTotals rulesOf rs)
+      , "by_feature" .= fmap totalsJson (groupTotals featuresOf rs)
+      ]
+  where
+    caseJson r =
+      object
+        [ "id" .= resId r
+        , "file" .= resFile r
+        , "result" .= outcomeName (resOutcome r)
+        , "detail" .= detail (resOutcome r)
+        , "difference" .= case resOutcome r of
+            Fail d -> object ["what" .= dWhat d, "expected" .= dExpected d, "actual" .= dActual d]
+            _ -> A.Null
+        , "invalid" .= case resOutcome r of
+            InvalidCase _ -> True
+            _ -> False
+        , "known_failure" .= resKnownFailure r
+        , "rules" .= rulesOf r
+        , "features" .= featuresOf r
+        , "seconds" .= resSeconds r
+        ]
+
+-- | JUnit XML: one testsuite per area, one testcase per case (classname the
+-- area with dots, name the case's slug); fail → @failure@, engine-error and
+-- malformed cases → @error@, unsupported and skipped → @skipped@.
+junitReport :: [CaseResult] -> BL.ByteString
+junitReport rs =
+  BL.fromStrict . TE.encodeUtf8 . T.unlines $
+    ["<?xml version=\"1.0\" encoding=\"UTF-8\"?>", "<testsuites name=\"stref conformance\"" <> counts rs <> ">"]
+      ++ concatMap suite (M.toList bySuite)
+      ++ ["</testsuites>"]
+  where
+    bySuite = M.fromListWith (flip (++)) [(head' (areaOf r), [r]) | r <- rs]
+    head' = \case
+      (x : _) -> x
+      [] -> ""
+    counts xs =
+      let t = totals xs
+          errors = tEngineError t + length [() | r <- xs, InvalidCase _ <- [resOutcome r]]
+          failures = tFailed t - length [() | r <- xs, InvalidCase _ <- [resOutcome r]]
+       in attr "tests" (length xs) <> attr "failures" failures <> attr "errors" errors
+            <> attr "skipped" (tSkipped t + tUnsupported t) <> " time=\"" <> secs (sum (map resSeconds xs)) <> "\""
+    attr :: Text -> Int -> Text
+    attr k v = " " <> k <> "=\"" <> T.pack (show v) <> "\""
+    secs s = T.pack (showFFloat (Just 3) s "")
+    suite (name, xs) =
+      ["  <testsuite name=\"" <> esc name <> "\"" <> counts xs <> ">"]
+        ++ concatMap testcase xs
+        ++ ["  </testsuite>"]
+    testcase r =
+      let slug = T.takeWhileEnd (/= '/') (resId r)
+          classname = T.replace "/" "." (T.dropEnd (T.length slug + 1) (resId r))
+          open = "    <testcase name=\"" <> esc slug <> "\" classname=\"" <> esc classname <> "\" time=\"" <> secs (resSeconds r) <> "\""
+          child tag msg = [open <> ">", "      <" <> tag <> " message=\"" <> esc (T.take 200 msg) <> "\">" <> esc msg <> "</" <> tag <> ">", "    </testcase>"]
+       in case resOutcome r of
+            Pass -> [open <> "/>"]
+            o@(Fail _) -> child "failure" (detail o)
+            o@(InvalidCase _) -> child "error" ("invalid case: " <> detail o)
+            o@(EngineError _) -> child "error" ("engine-error: " <> detail o)
+            o@(Unsupported _) -> [open <> ">", "      <skipped message=\"" <> esc ("unsupported: " <> detail o) <> "\"/>", "    </testcase>"]
+            o@(Skipped _) -> [open <> ">", "      <skipped message=\"" <> esc (detail o) <> "\"/>", "    </testcase>"]
+    esc = T.concatMap $ \case
+      '<' -> "&lt;"
+      '>' -> "&gt;"
+      '&' -> "&amp;"
+      '"' -> "&quot;"
+      '\'' -> "&apos;"
+      c
+        | c < ' ' && c `notElem` ("\n\t" :: String) -> "?"
+        | otherwise -> T.singleton c

@@ -1,0 +1,439 @@
+-- | Running conformance cases against an engine and judging the answers.
+--
+-- An engine is the in-process reference ('referenceEngine') or an external
+-- command, started once per case through @/bin/sh -c@ in a process group of
+-- its own: the request goes to its standard input, the answer is read from
+-- its standard output, at most 'roMaxAnswerBytes' bytes, within
+-- 'roTimeout' seconds. Whatever else happens (non-zero exit, a signal, no
+-- answer in time, too much output, invalid JSON) is an @engine-error@ for
+-- that case; the whole group is killed and the run goes on.
+module Stref.Conformance.Runner
+  ( EngineSpec (..)
+  , RunOptions (..)
+  , defaultRunOptions
+  , Outcome (..)
+  , Difference (..)
+  , CaseResult (..)
+  , runCorpus
+  , runOne
+  , buildRequest
+  , judge
+  , askEngine
+  , runExternal
+  , globMatch
+  , inShard
+  ) where
+
+import Control.Concurrent (forkIO)
+import Control.Concurrent.Async (async, cancel, mapConcurrently, wait, waitCatch)
+import Control.Concurrent.QSem
+import Control.Exception (SomeAsyncException, SomeException, bracket_, evaluate, fromException, throwIO, try)
+import Control.Monad (void, when)
+import qualified Data.ByteString as BS
+import qualified Data.ByteString.Lazy as BL
+import Data.Char (toUpper)
+import Data.Maybe (fromMaybe, mapMaybe)
+import qualified Data.Map.Strict as M
+import qualified Data.Set as S
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.Encoding as TE
+import qualified Data.Text.Encoding.Error as TE
+import GHC.Clock (getMonotonicTime)
+import System.Exit (ExitCode (..))
+import System.IO (Handle, hClose)
+import System.Process
+import System.Timeout (timeout)
+import Stref.Checked (ModuleKind (..))
+import Stref.Conformance.Case
+import Stref.Conformance.Corpus
+import Stref.Conformance.Protocol
+import Stref.Engine (referenceEngine)
+import Stref.Operands
+import Stref.Policy (Policies, mastertoolXE, policyAssignments)
+import Stref.Values (realBits)
+
+data EngineSpec
+  = Reference [(Text, Text)] -- ^ the in-process reference, with policy overrides
+  | External String -- ^ a shell command line
+  deriving (Eq, Show)
+
+data RunOptions = RunOptions
+  { roEngine :: EngineSpec
+  , roPolicies :: Policies -- ^ the engine's declared policies: choose @expect-if@, sent in requests
+  , roJobs :: Int
+  , roShard :: Maybe (Int, Int) -- ^ @(i, n)@, 1 <= i <= n
+  , roFilters :: [Text] -- ^ globs on case ids; a case runs when it matches one (or none are given)
+  , roFeatures :: [Text]
+  , roRules :: [Text]
+  , roTimeout :: Double -- ^ seconds per case
+  , roKnownFailures :: S.Set Text
+  , roMaxAnswerBytes :: Int
+  }
+
+defaultRunOptions :: RunOptions
+defaultRunOptions =
+  RunOptions
+    { roEngine = Reference []
+    , roPolicies = mastertoolXE
+    , roJobs = 1
+    , roShard = Nothing
+    , roFilters = []
+    , roFeatures = []
+    , roRules = []
+    , roTimeout = 10
+    , roKnownFailures = S.empty
+    , roMaxAnswerBytes = 16 * 1024 * 1024
+    }
+
+-- | The first difference between expectation and answer.
+data Difference = Difference
+  { dWhat :: Text -- ^ @%M0012@, @verdict@, @error.code@, @OUTPUT1@, @P.X@
+  , dExpected :: Text
+  , dActual :: Text
+  }
+  deriving (Eq, Show)
+
+data Outcome
+  = Pass
+  | Fail Difference
+  | InvalidCase Text -- ^ the case file itself is malformed (counted as failed)
+  | Unsupported Text
+  | EngineError Text
+  | Skipped Text -- ^ filtered out, or a known failure (with what went wrong)
+  deriving (Eq, Show)
+
+data CaseResult = CaseResult
+  { resId :: Text
+  , resFile :: FilePath
+  , resCase :: Maybe Case
+  , resOutcome :: Outcome
+  , resKnownFailure :: Bool -- ^ listed in the known-failures file
+  , resSeconds :: Double
+  }
+  deriving (Eq, Show)
+
+-- | Case @k@ (0-based, in id order) belongs to shard @k mod n + 1@.
+inShard :: Maybe (Int, Int) -> Int -> Bool
+inShard Nothing _ = True
+inShard (Just (i, n)) k = k `mod` n == i - 1
+
+-- | @*@ matches any run of characters (also @/@), @?@ one character.
+globMatch :: Text -> Text -> Bool
+globMatch pat = go (T.unpack pat) . T.unpack
+  where
+    go [] s = null s
+    go ('*' : ps) s = any (go ps) (suffixes s)
+    go ('?' : ps) (_ : s) = go ps s
+    go (p : ps) (c : s) = p == c && go ps s
+    go _ [] = False
+    suffixes s = s : case s of
+      [] -> []
+      (_ : r) -> suffixes r
+
+selected :: RunOptions -> Case -> Maybe Text
+selected o c
+  | not (null (roFilters o)) && not (any (`globMatch` caseId c) (roFilters o)) = Just "filtered out (--filter)"
+  | not (null (roFeatures o)) && not (any (`elem` caseFeatures c) (roFeatures o)) = Just "filtered out (--feature)"
+  | not (null (roRules o)) && not (any (`elem` caseRules c) (roRules o)) = Just "filtered out (--rule)"
+  | otherwise = Nothing
+
+-- | Run the corpus's entries (after sharding) and return one result each.
+runCorpus :: RunOptions -> Corpus -> IO [CaseResult]
+runCorpus o corpus = do
+  sem <- newQSem (max 1 (roJobs o))
+  let entries = [e | (k, e) <- zip [0 ..] (corpusEntries corpus), inShard (roShard o) k]
+      one e = bracket_ (waitQSem sem) (signalQSem sem) (runEntry e)
+  if roJobs o <= 1 then mapM runEntry entries else mapConcurrently one entries
+  where
+    runEntry = \case
+      Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known i) 0)
+      Loaded c -> case selected o c of
+        Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known (caseId c)) 0)
+        Nothing -> do
+          t0 <- getMonotonicTime
+          -- whatever goes wrong while running one case ends only that case
+          outcome <- either (\e -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> trySync (runOne o c)
+          t1 <- getMonotonicTime
+          let k = known (caseId c)
+              outcome' = if k then knownFailure outcome else outcome
+          pure (CaseResult (caseId c) (caseFile c) (Just c) outcome' k (t1 - t0))
+    known i = i `S.member` roKnownFailures o
+    knownFailure = \case
+      Fail d -> Skipped ("known failure: " <> dWhat d <> ": expected " <> dExpected d <> ", got " <> dActual d)
+      EngineError e -> Skipped ("known failure: engine-error: " <> e)
+      InvalidCase e -> InvalidCase e
+      other -> other
+
+-- | Catch what the action throws, but let cancellation and interrupts
+-- (asynchronous exceptions) through.
+trySync :: IO a -> IO (Either SomeException a)
+trySync act = try act >>= \case
+  Left e | Just (_ :: SomeAsyncException) <- fromException e -> throwIO e
+  r -> pure r
+
+-- | Run one case: build the request, ask the engine, judge the answer.
+runOne :: RunOptions -> Case -> IO Outcome
+runOne o c = do
+  let ex = effectiveExpect (roPolicies o) c
+      rq = buildRequest (roPolicies o) c ex
+  answer <- askEngine o rq
+  pure $ case answer of
+    Left e -> EngineError e
+    Right a -> judge ex a
+
+-- | The request for a case, observing exactly what the expectation names.
+buildRequest :: Policies -> Case -> Expect -> Request
+buildRequest pol c ex =
+  Request
+    { rqProtocol = protocolVersion
+    , rqCase = caseId c
+    , rqDialect = caseDialect c
+    , rqPolicies = M.fromList (policyAssignments pol)
+    , rqSource = caseSource c
+    , rqModule = case caseModule c of
+        ProcedureModule -> "P"
+        FunctionModule -> "F"
+    , rqPlc =
+        PlcRequest
+          { prDeclare = declareFromConfig cfg
+          , prDiagnostics = renderOperand (OpSimple KM (plcDiagnostics cfg))
+          , prInit = M.fromList [(renderOperand op, expValueScalar op v) | (op, v) <- psInit plc]
+          , prChf = fmap (uncurry ChfRequest) (psChf plc)
+          }
+    , rqCalls = [CallRequest (csInputs k) (M.fromList [(renderOperand op, expValueScalar op v) | (op, v) <- csSet k]) | k <- caseCalls c]
+    , rqObserve =
+        Observe
+          { obsOperands = map renderOperand (M.keys (exOperands ex))
+          , obsVars = M.keys (exVars ex)
+          , obsOutputs = ["OUTPUT" <> T.pack (show n) | n <- M.keys (exOutputs ex)]
+          , obsError = True
+          }
+    }
+  where
+    plc = casePlc c
+    cfg = psConfig plc
+
+-- | Ask the engine; 'Left' is an engine error.
+askEngine :: RunOptions -> Request -> IO (Either Text Answer)
+askEngine o rq = case roEngine o of
+  Reference overrides -> do
+    let answer = referenceEngine overrides rq
+    -- the timeout's own exception must not be caught as a failure: 'try'
+    -- stays outside 'timeout'
+    r <- trySync (timeout (micros (roTimeout o)) (evaluate (BL.length (encodeAnswer answer))))
+    pure $ case r of
+      Left (e :: SomeException) -> Left ("the reference engine failed: " <> T.pack (show e))
+      Right Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
+      Right (Just _) -> Right answer
+  External cmd -> do
+    r <- runExternal cmd (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
+    pure $ r >>= \bytes -> case decodeAnswer (BL.fromStrict bytes) of
+      Left e -> Left ("the answer is not a valid stref-engine/1 answer: " <> T.pack e <> excerpt bytes)
+      Right a -> Right a
+  where
+    excerpt b = " (answer began: " <> T.pack (show (BS.take 80 b)) <> ")"
+
+micros :: Double -> Int
+micros s = max 1 (round (s * 1000000))
+
+secondsText :: Double -> Text
+secondsText s = T.pack (show s) <> " s"
+
+-- | Start the command in its own process group, feed it the request, read at
+-- most @limit@ bytes of answer. 'Left' says what went wrong.
+runExternal :: String -> Double -> Int -> BL.ByteString -> IO (Either Text BS.ByteString)
+runExternal cmd seconds limit input = do
+  started <- try (createProcess (shell cmd) {std_in = CreatePipe, std_out = CreatePipe, std_err = CreatePipe, create_group = True})
+  case started of
+    Left (e :: SomeException) -> pure (Left ("cannot start the engine: " <> T.pack (show e)))
+    Right (Just hin, Just hout, Just herr, ph) -> do
+      pid <- getPid ph
+      let killGroup = case pid of
+            Just p -> void (try (readProcessWithExitCode "/bin/sh" ["-c", "kill -9 -" ++ show p ++ " 2>/dev/null"] "") :: IO (Either SomeException (ExitCode, String, String)))
+            Nothing -> pure ()
+      -- The pipes of a child process are blocking file descriptors: a thread
+      -- reading one cannot be interrupted, so every blocking step runs in
+      -- its own thread and only the waiting here is bounded by the timeout.
+      _ <- forkIO (void (try (BL.hPut hin input >> hClose hin) :: IO (Either SomeException ())))
+      errReader <- async (drainKeeping herr 2000)
+      conversation <- async $ do
+        out <- readLimited hout limit
+        case out of
+          Nothing -> pure (Left ("the answer exceeds " <> T.pack (show limit) <> " bytes"))
+          Just bytes -> do
+            code <- waitForProcess ph
+            errText <- wait errReader
+            pure $ case code of
+              ExitSuccess -> Right bytes
+              ExitFailure n
+                | n < 0 -> Left ("the engine was killed by signal " <> T.pack (show (negate n)) <> stderrNote errText)
+                | otherwise -> Left ("the engine exited with status " <> T.pack (show n) <> stderrNote errText)
+      outcome <- timeout (micros seconds) (waitCatch conversation)
+      -- kill whatever is left of the engine's group, then reap and close in
+      -- the background (a read still blocked ends when the group is dead)
+      killGroup
+      _ <- forkIO $ do
+        void (try (waitForProcess ph) :: IO (Either SomeException ExitCode))
+        cancel conversation
+        cancel errReader
+        mapM_ closeQuietly [hin, hout, herr]
+      pure $ case outcome of
+        Nothing -> Left ("no answer within " <> secondsText seconds)
+        Just (Left e) -> Left ("talking to the engine failed: " <> T.pack (show e))
+        Just (Right r) -> r
+    Right _ -> pure (Left "cannot start the engine: no pipes")
+  where
+    stderrNote t = if T.null (T.strip t) then "" else "; stderr: " <> T.strip t
+    closeQuietly :: Handle -> IO ()
+    closeQuietly h = void (try (hClose h) :: IO (Either SomeException ()))
+
+-- | Read to end of file, or 'Nothing' as soon as more than @limit@ bytes came.
+readLimited :: Handle -> Int -> IO (Maybe BS.ByteString)
+readLimited h limit = go 0 []
+  where
+    go n acc = do
+      chunk <- BS.hGetSome h 65536
+      if BS.null chunk
+        then pure (Just (BS.concat (reverse acc)))
+        else
+          let n' = n + BS.length chunk
+           in if n' > limit then pure Nothing else go n' (chunk : acc)
+
+-- | Read to end of file, keeping the first @keep@ bytes as text.
+drainKeeping :: Handle -> Int -> IO Text
+drainKeeping h keep = go 0 []
+  where
+    go n acc = do
+      r <- try (BS.hGetSome h 65536) :: IO (Either SomeException BS.ByteString)
+      case r of
+        Right chunk | not (BS.null chunk) ->
+          let room = max 0 (keep - n)
+           in go (n + BS.length chunk) (if room > 0 then BS.take room chunk : acc else acc)
+        _ -> pure (TE.decodeUtf8With TE.lenientDecode (BS.concat (reverse acc)))
+
+-- * Judging
+
+-- | Compare an answer with the expectation; the first difference fails.
+judge :: Expect -> Answer -> Outcome
+judge ex = \case
+  AnswerUnsupported r -> Unsupported r
+  AnswerRejected line kind msg -> case expectedVerdict ex of
+    ExpRejected -> either Fail (const Pass) $ do
+      let rj = fromMaybe (ExpReject Nothing Nothing) (exReject ex)
+      case rjLine rj of
+        Just l | line /= Just l -> Left (Difference "reject.line" (showT l) (maybe "no line" showT line <> " (" <> msg <> ")"))
+        _ -> Right ()
+      case (rjKind rj, kind) of
+        (Just k, Just k') | k /= k' -> Left (Difference "reject.kind" k (k' <> " (" <> msg <> ")"))
+        _ -> Right ()
+    v -> Fail (Difference "verdict" (verdictText v) ("rejected" <> maybe "" (\l -> " at line " <> showT l) line <> ": " <> msg))
+  AnswerRun verdict ob -> either Fail (const Pass) $ do
+    let expected = expectedVerdict ex
+        actualV = case verdict of
+          VerdictOk -> ExpOk
+          VerdictRuntimeError -> ExpRuntimeError
+    when (expected /= actualV) $
+      Left (Difference "verdict" (verdictText expected) (verdictText actualV <> maybe "" (\e -> " (" <> errorText e <> ")") (obError ob)))
+    compareError (exError ex) (obError ob)
+    let answered = M.fromList (mapMaybe (\(t, s) -> either (const Nothing) (\op -> Just (op, s)) (parseOperand t)) (M.toList (obOperands ob)))
+    mapM_ (\(op, v) -> compareOperand op v (M.lookup op answered)) (M.toList (exOperands ex))
+    mapM_ (\(name, v) -> compareVar name v (lookupName name (obVars ob))) (M.toList (exVars ex))
+    mapM_ (\(n, b) -> compareOutput n b (lookupName ("OUTPUT" <> showT n) (obOutputs ob))) (M.toList (exOutputs ex))
+  where
+    showT :: Show a => a -> Text
+    showT = T.pack . show
+    verdictText = \case
+      ExpOk -> "ok"
+      ExpRejected -> "rejected"
+      ExpRuntimeError -> "runtime-error"
+    errorText (ErrorReport c l comp) =
+      "error " <> showT c <> maybe "" (\x -> " at line " <> showT x) l <> maybe "" (\(a, b, d) -> " comp [" <> T.intercalate ", " (map showT [a, b, d]) <> "]") comp
+    lookupName :: Text -> M.Map Text a -> Maybe a
+    lookupName n m = case M.lookup n m of
+      Just x -> Just x
+      Nothing -> lookup (T.map toUpper n) [(T.map toUpper k, x) | (k, x) <- M.toList m]
+    compareError expected actual = case (expected, actual) of
+      (Nothing, _) -> Right ()
+      (Just ErrNone, Nothing) -> Right ()
+      (Just ErrNone, Just e) -> Left (Difference "error" "none" (errorText e))
+      (Just (ErrCode c _ _), Nothing) -> Left (Difference "error" ("error " <> showT c) "none")
+      (Just (ErrCode c l comp), Just e@(ErrorReport c' l' comp'))
+        | c /= c' -> Left (Difference "error.code" (showT c) (errorText e))
+        | Just x <- l, l' /= Just x -> Left (Difference "error.line" (showT x) (maybe "not reported" showT l'))
+        | Just x <- comp, comp' /= Just x -> Left (Difference "error.comp" (showT x) (maybe "not reported" showT comp'))
+        | otherwise -> Right ()
+    compareOutput n b = \case
+      Nothing -> Left (Difference ("OUTPUT" <> showT n) (boolText b) "not reported")
+      Just b' | b /= b' -> Left (Difference ("OUTPUT" <> showT n) (boolText b) (boolText b'))
+      _ -> Right ()
+    boolText b = if b then "true" else "false"
+    compareOperand op v = \case
+      Nothing -> Left (Difference (renderOperand op) (renderExpValue v) "not reported")
+      Just s
+        | operandMatches op v s -> Right ()
+        | otherwise -> Left (Difference (renderOperand op) (renderExpValue v) (scalarText s))
+    compareVar name v = \case
+      Nothing -> Left (Difference name (renderExpValue v) "not reported")
+      Just s
+        | varMatches v s -> Right ()
+        | otherwise -> Left (Difference name (renderExpValue v) (scalarText s))
+
+scalarText :: Scalar -> Text
+scalarText = \case
+  SNumber n -> maybe (T.pack (show (scientificToFloat n))) (T.pack . show) (smallInteger n)
+  SBool b -> if b then "true" else "false"
+  SBits w -> renderExpValue (EBits w)
+  SNaN -> "nan"
+
+-- | An operand is a bit pattern of its width: an expected integer matches
+-- the pattern read as signed or as unsigned; REAL operands compare binary32
+-- values (any NaN matches @nan@).
+operandMatches :: Operand -> ExpValue -> Scalar -> Bool
+operandMatches op v s = case op of
+  OpBit {} -> case (v, s) of
+    (EBool b, SBool b') -> b == b'
+    _ -> False
+  _
+    | operandIsReal op -> case scalarToFloat s of
+        Nothing -> False
+        Just f -> realMatches v f
+    | otherwise -> case (expectedPattern, actualPattern) of
+        (Just a, Just b) -> a == b
+        _ -> False
+  where
+    w = operandBits op
+    modW n = n `mod` (2 ^ w)
+    fits n = n >= negate (2 ^ (w - 1)) && n < 2 ^ w
+    expectedPattern = case v of
+      EInt n | fits n -> Just (modW n)
+      EBits b -> Just (toInteger b)
+      _ -> Nothing
+    actualPattern = case s of
+      SNumber n | Just i <- smallInteger n, fits i -> Just (modW i)
+      SBits b | toInteger b < 2 ^ w -> Just (toInteger b)
+      _ -> Nothing
+
+realMatches :: ExpValue -> Float -> Bool
+realMatches v f = case v of
+  ENaN -> isNaN f
+  EReal r -> realBits r == realBits f
+  EInt n -> realBits (fromInteger n) == realBits f
+  EBits b -> b == realBits f
+  EBool _ -> False
+
+-- | Named variables: integers compare as numbers (bit strings read
+-- unsigned, as the reference reports them), REAL by binary32.
+varMatches :: ExpValue -> Scalar -> Bool
+varMatches v s = case (v, s) of
+  (EBool b, SBool b') -> b == b'
+  (EInt n, SNumber x) -> x == fromInteger n
+  (EInt n, SBits b) -> toInteger b == n `mod` (2 ^ (32 :: Int))
+  (EBits b, SNumber x) -> case smallInteger x of
+    Just i -> i `mod` (2 ^ (32 :: Int)) == toInteger b
+    Nothing -> maybe False (\f -> realBits f == b) (scalarToFloat s)
+  (EBits b, SBits b') -> b == b'
+  (EReal _, _) -> maybe False (realMatches v) (scalarToFloat s)
+  (ENaN, _) -> maybe False isNaN (scalarToFloat s)
+  _ -> False
+

@@ -1,0 +1,139 @@
+-- | The reference engine: the project's own answer to a @stref-engine/1@
+-- request, as a pure function. It parses and checks the source under the
+-- request's policies and runs the module calls one after the other on one
+-- controller state.
+--
+-- Every call runs, as a controller keeps scanning after a runtime error
+-- (the error only ends the call that raised it, MT-DIAG-2); the verdict and
+-- the reported error are those of the last call, like every other
+-- observation.
+module Stref.Engine
+  ( referenceEngine
+  , requestPolicies
+  , scalarToCellBits
+  ) where
+
+import Control.Monad (foldM)
+import Data.Bits (testBit)
+import Data.Char (toUpper)
+import Data.List (minimumBy, sortOn)
+import qualified Data.Map.Strict as M
+import Data.Ord (comparing)
+import Data.Text (Text)
+import qualified Data.Text as T
+import Data.Word (Word32)
+import Stref.Check (checkModule)
+import Stref.Checked (ModuleKind (..))
+import Stref.Conformance.Protocol
+import Stref.Diagnostics (RuntimeError (..))
+import Stref.Execution
+import Stref.Operands
+import Stref.Policy
+import Stref.Syntax (Pos (..))
+import Stref.Syntax.Parser (parseModule)
+import Stref.Values
+import Stref.Verification (VerificationError (..))
+
+-- | The policies a request asks for: the dialect's preset, then the
+-- request's choices, then the given overrides (those of @stref engine
+-- --policy K=V@, which win over the request's).
+requestPolicies :: [(Text, Text)] -> Request -> Either Text Policies
+requestPolicies overrides rq = do
+  preset <- maybe (Left ("unknown dialect '" <> rqDialect rq <> "'; known: " <> T.intercalate ", " (map fst presets))) Right (lookupPreset (rqDialect rq))
+  foldM (\p (k, v) -> setPolicy k v p) preset (M.toList (rqPolicies rq) ++ overrides)
+
+-- | Answer one request. Problems with the request itself (an unknown
+-- protocol, dialect or policy, a malformed operand) give @unsupported@ with
+-- the reason.
+referenceEngine :: [(Text, Text)] -> Request -> Answer
+referenceEngine overrides rq = either AnswerUnsupported id $ do
+  if rqProtocol rq /= protocolVersion
+    then Left ("protocol '" <> rqProtocol rq <> "' is not spoken here; this engine speaks " <> protocolVersion)
+    else Right ()
+  pol <- requestPolicies overrides rq
+  kind <- case T.toUpper (rqModule rq) of
+    "P" -> Right ProcedureModule
+    "F" -> Right FunctionModule
+    m -> Left ("module kind '" <> m <> "' is neither P nor F")
+  diag <- case parseOperand (prDiagnostics (rqPlc rq)) of
+    Right (OpSimple KM a) -> Right a
+    _ -> Left ("the diagnostic band must start at a %M operand, not '" <> prDiagnostics (rqPlc rq) <> "'")
+  let cfg = declareToConfig diag (prDeclare (rqPlc rq))
+  chf <- traverse chfArgs (prChf (rqPlc rq))
+  initial <- foldM writeScalar emptyMemory =<< sortedOperands (prInit (rqPlc rq))
+  observed <- traverse (\t -> (t,) <$> parseOperand t) (obsOperands (rqObserve rq))
+  calls <- traverse (\c -> (,) (callInputs c) <$> sortedOperands (callSet c)) (rqCalls rq)
+  if null calls then Left "the request has no calls" else Right ()
+  pure $ case parseModule pol (T.unpack (rqCase rq)) (rqSource rq) of
+    Left e -> rejected e
+    Right m -> case checkModule pol kind m of
+      Left [] -> AnswerRejected Nothing Nothing "the program was rejected"
+      Left es -> rejected (minimumBy (comparing vePos) es)
+      Right cm ->
+        let step (st, _) (ins, sets) =
+              let mem = foldl (\acc (op, s) -> either (const acc) id (writeScalar acc (op, s))) (psMemory st) sets
+                  input = CallInput ins (maybe [] fst chf) (maybe [] snd chf)
+                  (st', res) = runCall pol cfg cm input st {psMemory = mem}
+               in (st', Just res)
+            (final, lastResult) = foldl step (initialPlcState {psMemory = initial}, Nothing) calls
+         in maybe (AnswerUnsupported "the request has no calls") (observe (psMemory final) observed) lastResult
+  where
+    rejected (VerificationError k (Pos l _) msg) = AnswerRejected (Just l) (Just k) msg
+    chfArgs (ChfRequest i o) = (,) <$> traverse parseChfArg i <*> traverse parseChfArg o
+    sortedOperands m = sortOn fst <$> traverse (\(t, s) -> (,s) <$> parseOperand t) (M.toList m)
+    writeScalar mem (op, s) = case op of
+      OpBit {} -> case s of
+        SBool b -> Right (writeOperand op (VBool b) mem)
+        _ -> Left ("the bit operand " <> renderOperand op <> " takes true or false")
+      _ -> (\w -> writeCell (operandCell op) w mem) <$> scalarToCellBits op s
+    observe mem observed res =
+      let (o1, o2, o3) = crOutputs res
+          operands = M.fromList [(t, readScalar mem op) | (t, op) <- observed]
+          vars = M.fromList [(name, valueScalar v) | name <- obsVars (rqObserve rq), Just v <- [lookupVar name (crVars res)]]
+          err = fmap (\(RuntimeError c l (a, b, d)) -> ErrorReport c (Just l) (Just (a, b, d))) (crError res)
+          ob = Observation operands vars (M.fromList [("OUTPUT1", o1), ("OUTPUT2", o2), ("OUTPUT3", o3)]) err
+       in AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob
+    lookupVar name vs = case lookup name vs of
+      Just v -> Just v
+      Nothing -> lookup (T.map toUpper name) [(T.map toUpper n, v) | (n, v) <- vs]
+
+-- | An operand's value as the answer reports it: a bit as true/false, %F
+-- and %TF as a binary32, the others as the signed reading of the pattern.
+readScalar :: Memory -> Operand -> Scalar
+readScalar mem op = case op of
+  OpBit _ _ b -> SBool (testBit (readCell mem (operandCell op)) b)
+  _
+    | isReal -> scalarFromFloat (realFromBits w)
+    | otherwise -> SNumber (fromInteger (signed (cellWidth (operandCell op)) (toInteger w)))
+  where
+    w = readCell mem (operandCell op)
+    isReal = case op of
+      OpSimple KF _ -> True
+      OpTablePos TF _ _ -> True
+      _ -> False
+    signed width n = if n >= 2 ^ (width - 1) then n - 2 ^ width else n
+
+valueScalar :: Value -> Scalar
+valueScalar = \case
+  VBool b -> SBool b
+  VReal r -> scalarFromFloat r
+  v -> maybe (SBool False) (SNumber . fromInteger) (valueToInteger v)
+
+-- | The bit pattern a scalar writes into a (non-bit) operand: integers in
+-- the signed or unsigned range of its width, REAL operands from a number.
+scalarToCellBits :: Operand -> Scalar -> Either Text Word32
+scalarToCellBits op s
+  | isReal = case scalarToFloat s of
+      Just f -> Right (realBits f)
+      Nothing -> Left (renderOperand op <> " takes a REAL value")
+  | otherwise = case s of
+      SBits b | toInteger b < 2 ^ width -> Right b
+      SNumber n | Just i <- smallInteger n, i >= negate (2 ^ (width - 1)), i < 2 ^ width ->
+        Right (fromInteger (i `mod` (2 ^ width)))
+      _ -> Left ("a value that does not fit the " <> T.pack (show width) <> " bits of " <> renderOperand op)
+  where
+    width = cellWidth (operandCell op) :: Int
+    isReal = case op of
+      OpSimple KF _ -> True
+      OpTablePos TF _ _ -> True
+      _ -> False

@@ -1,0 +1,3 @@
+#!/bin/sh
+# An engine that prints without end.
+yes "flooding the runner with output"
