@@ -5,17 +5,24 @@
 -- closure again, it never walks the tree again. The policies are fixed at
 -- translation time, so a closure already is the meaning under one dialect.
 --
--- Everything here is pure: the machine state is threaded explicitly, a
--- runtime error is a value that carries the state at the moment it occurred
--- (operand writes made before an error persist, MT-EXEC-8).
+-- Everything here is pure: the closures run in 'ST' over a machine of
+-- mutable slots (variables resolved to vector indices when the closure is
+-- built), and a module call is one 'runST'. A runtime error stops the
+-- closures; the machine keeps the state at the moment it occurred (operand
+-- writes made before an error persist, MT-EXEC-8).
+{-# LANGUAGE RankNTypes #-}
 module Stref.Eval
   ( -- * The machine
     Machine (..)
+  , newMachine
+  , Snapshot (..)
+  , snapshot
+  , snapshotElement
   , Env (..)
   , Res (..)
   , Exec (..)
-  , runExec
   , failWith
+  , getMemory
   , maxCallDepth
   , errMalformed
     -- * Variables
@@ -34,27 +41,88 @@ module Stref.Eval
   , compileBlock
   ) where
 
+import Control.Monad.ST (ST)
 import qualified Data.IntMap.Strict as IM
+import Data.Int (Int32)
 import Data.IntMap.Strict (IntMap)
+import Data.STRef
+import qualified Data.Vector as V
+import qualified Data.Vector.Mutable as MV
+import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.Checked
-import Stref.Conversions (convert)
 import Stref.Diagnostics
+import Stref.Eval.Fast
 import Stref.Operands
 import qualified Stref.Operators as O
 import Stref.Policy
 import Stref.Types
 import Stref.Values
 
--- | The state one module call works on.
-data Machine = Machine
-  { mData :: !(IntMap Value) -- ^ the module data area (MT-MAP-1)
-  , mFrame :: !(IntMap Value) -- ^ the active function call's frame (MT-SCOPE-7)
-  , mMemory :: !Memory -- ^ the PLC operands
-  , mOutputs :: !(Bool, Bool, Bool) -- ^ OUTPUT1..3 (MT-SIG-4)
-  , mOverflow :: !Bool -- ^ INTERNAL_OVERFLOW (MT-OP-7)
-  , mSteps :: !Int -- ^ steps used of the budget (MT-EXEC-7)
+-- | The state one module call works on: mutable slots, valid inside one
+-- 'runST'.
+data Machine s = Machine
+  { mData :: !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
+  , mFrame :: !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
+  , mMemory :: !(STRef s Memory) -- ^ the PLC operands
+  , mCounters :: !(MU.MVector s Int)
+  -- ^ steps used of the budget (MT-EXEC-7), INTERNAL_OVERFLOW (MT-OP-7),
+  -- OUTPUT1..3 (MT-SIG-4), at the indices below
   }
-  deriving (Eq, Show)
+
+ixSteps, ixOverflow :: Int
+ixSteps = 0
+ixOverflow = 1
+
+-- | OUTPUTn is counter 1 + n.
+ixOutput :: Int -> Int
+ixOutput n = 1 + n
+
+-- | A machine with the data area taken from the retained slots, or else
+-- every slot at its type default (so reading a slot before any write gives
+-- the default, as MT-VAR-3 asks); OUTPUT1 TRUE, the others and the flag
+-- FALSE, no steps used.
+newMachine :: CompiledModule -> IntMap Value -> Memory -> (Bool, Bool, Bool) -> ST s (Machine s)
+newMachine cm retained mem (o1, o2, o3) = do
+  d <- V.thaw (V.imap (\k def -> IM.findWithDefault def k retained) (cmDataDefaults cm))
+  f <- MV.replicate 0 (VBool False)
+  fr <- newSTRef f
+  mr <- newSTRef mem
+  cs <- MU.replicate 5 0
+  MU.write cs (ixOutput 1) (fromEnum o1)
+  MU.write cs (ixOutput 2) (fromEnum o2)
+  MU.write cs (ixOutput 3) (fromEnum o3)
+  pure (Machine d fr mr cs)
+
+-- | The machine's state after a call, immutable.
+data Snapshot = Snapshot
+  { snData :: !(V.Vector Value)
+  , snMemory :: !Memory
+  , snOutputs :: !(Bool, Bool, Bool)
+  , snOverflow :: !Bool
+  , snSteps :: !Int
+  }
+
+snapshot :: Machine s -> ST s Snapshot
+snapshot m = do
+  d <- V.freeze (mData m)
+  mem <- readSTRef (mMemory m)
+  cs <- mapM (MU.read (mCounters m)) [0 .. 4]
+  case cs of
+    [steps, o, a, b, c] -> pure (Snapshot d mem (a /= 0, b /= 0, c /= 0) (o /= 0) steps)
+    _ -> pure (Snapshot d mem (False, False, False) False 0)
+
+-- | Element @off@ of a variable in a snapshot; frame variables (no frame is
+-- active after a call) and INPUTn read their defaults.
+snapshotElement :: Env -> Snapshot -> Var -> Int -> Value
+snapshotElement env sn v off = case varHome v of
+  Data i -> maybe def id (snData sn V.!? (i + off))
+  Frame _ -> def
+  Mapped o -> readOperand (snMemory sn) (elementOperand o off) (varBasicType v)
+  SignalInput n -> VBool (signal n (envInputs env))
+  SignalOutput n -> VBool (signal n (snOutputs sn))
+  OverflowFlag -> VBool (snOverflow sn)
+  where
+    def = defaultValue (varBasicType v)
 
 -- | What does not change while a closure runs: the module inputs and the
 -- number of active function frames.
@@ -64,44 +132,50 @@ data Env = Env
   }
   deriving (Eq, Show)
 
--- | The outcome of running a closure: a value and the new state, or a
--- runtime error and the state at the moment of the error.
+-- | The outcome of running a closure: a value, or a runtime error (the
+-- machine holds the state at the moment of the error).
 data Res a
-  = Done a !Machine
-  | Failed !RuntimeError !Machine
+  = Done !a
+  | Failed !RuntimeError
 
--- | A state and error monad, written out so that it stays small and fast.
-newtype Exec a = Exec {unExec :: Env -> Machine -> Res a}
+-- | A reader of the environment and an error monad over 'ST', written out
+-- so that it stays small and fast.
+newtype Exec s a = Exec {unExec :: Env -> Machine s -> ST s (Res a)}
 
-runExec :: Exec a -> Env -> Machine -> Res a
-runExec = unExec
+instance Functor (Exec s) where
+  fmap f (Exec g) = Exec $ \e m ->
+    g e m >>= \case
+      Done a -> pure (Done (f a))
+      Failed x -> pure (Failed x)
+  {-# INLINE fmap #-}
 
-instance Functor Exec where
-  fmap f (Exec g) = Exec $ \e m -> case g e m of
-    Done a m' -> Done (f a) m'
-    Failed x m' -> Failed x m'
+instance Applicative (Exec s) where
+  pure a = Exec $ \_ _ -> pure (Done a)
+  {-# INLINE pure #-}
+  Exec f <*> Exec g = Exec $ \e m ->
+    f e m >>= \case
+      Failed x -> pure (Failed x)
+      Done h ->
+        g e m >>= \case
+          Failed x -> pure (Failed x)
+          Done a -> pure (Done (h a))
+  {-# INLINE (<*>) #-}
 
-instance Applicative Exec where
-  pure a = Exec $ \_ m -> Done a m
-  Exec f <*> Exec g = Exec $ \e m -> case f e m of
-    Failed x m' -> Failed x m'
-    Done h m' -> case g e m' of
-      Failed x m'' -> Failed x m''
-      Done a m'' -> Done (h a) m''
+instance Monad (Exec s) where
+  Exec g >>= k = Exec $ \e m ->
+    g e m >>= \case
+      Failed x -> pure (Failed x)
+      Done a -> unExec (k a) e m
+  {-# INLINE (>>=) #-}
 
-instance Monad Exec where
-  Exec g >>= k = Exec $ \e m -> case g e m of
-    Failed x m' -> Failed x m'
-    Done a m' -> unExec (k a) e m'
+failWith :: ErrorCode -> Line -> Exec s a
+failWith c l = Exec $ \_ _ -> pure (Failed (runtimeError c l))
 
-getsM :: (Machine -> a) -> Exec a
-getsM f = Exec $ \_ m -> Done (f m) m
+getMemory :: Exec s Memory
+getMemory = Exec $ \_ m -> Done <$> readSTRef (mMemory m)
 
-modifyM :: (Machine -> Machine) -> Exec ()
-modifyM f = Exec $ \_ m -> Done () (f m)
-
-failWith :: ErrorCode -> Line -> Exec a
-failWith c l = Exec $ \_ m -> Failed (runtimeError c l) m
+setOverflow :: Bool -> Exec s ()
+setOverflow b = Exec $ \_ m -> Done <$> MU.unsafeWrite (mCounters m) ixOverflow (fromEnum b)
 
 -- | MT-POU-9, MT-LIM-1: at most 16 nested function calls.
 maxCallDepth :: Int
@@ -114,12 +188,13 @@ errMalformed = 9999
 
 -- | One step of the budget; exceeding it is runtime error 2030 at the line
 -- being executed (MT-EXEC-7).
-tick :: Int -> Line -> Exec ()
-tick budget line = Exec $ \_ m ->
-  let s = mSteps m + 1
-   in if s > budget
-        then Failed (runtimeError errExecutionTime line) m
-        else Done () m {mSteps = s}
+tick :: Int -> Line -> Exec s ()
+tick budget line = Exec $ \_ m -> do
+  s <- MU.unsafeRead (mCounters m) ixSteps
+  if s >= budget
+    then pure (Failed (runtimeError errExecutionTime line))
+    else Done <$> MU.unsafeWrite (mCounters m) ixSteps (s + 1)
+{-# INLINE tick #-}
 
 --------------------------------------------------------------------------------
 -- Variables
@@ -138,19 +213,37 @@ elementOperand op off = case op of
   OpBit k a b -> OpBit k (a + off) b -- never reached: mapped arrays are not BOOL (MT-MAP-11)
   OpTablePos k a p -> OpTablePos k a (p + off)
 
+-- | A slot of a vector, or the default outside it (never for a checked
+-- program: the slots cover every variable).
+readSlot :: MV.MVector s Value -> Value -> Int -> ST s Value
+readSlot vec def k
+  | k >= 0 && k < MV.length vec = MV.unsafeRead vec k
+  | otherwise = pure def
+{-# INLINE readSlot #-}
+
+writeSlot :: MV.MVector s Value -> Int -> Value -> ST s ()
+writeSlot vec k x
+  | k >= 0 && k < MV.length vec = MV.unsafeWrite vec k x
+  | otherwise = pure ()
+{-# INLINE writeSlot #-}
+
 -- | Read element @off@ (0-based) of a variable; 0 for a scalar. The home
 -- is inspected when the closure is built, not when it runs.
-readElement :: Var -> Int -> Exec Value
+readElement :: Var -> Int -> Exec s Value
 readElement v off = case varHome v of
-  Data i -> let k = i + off in Exec $ \_ m -> Done (IM.findWithDefault def k (mData m)) m
-  Frame i -> let k = i + off in Exec $ \_ m -> Done (IM.findWithDefault def k (mFrame m)) m
-  Mapped o -> let o' = elementOperand o off in Exec $ \_ m -> Done (readOperand (mMemory m) o' t) m
-  SignalInput n -> Exec $ \e m -> Done (VBool (signal n (envInputs e))) m
-  SignalOutput n -> Exec $ \_ m -> Done (VBool (signal n (mOutputs m))) m
-  OverflowFlag -> Exec $ \_ m -> Done (VBool (mOverflow m)) m
+  Data i -> let k = i + off in Exec $ \_ m -> Done <$> readSlot (mData m) def k
+  Frame i -> let k = i + off in Exec $ \_ m -> readSTRef (mFrame m) >>= \f -> Done <$> readSlot f def k
+  Mapped o -> let o' = elementOperand o off in Exec $ \_ m -> (\mem -> Done (readOperand mem o' t)) <$> readSTRef (mMemory m)
+  SignalInput n -> Exec $ \e _ -> pure (Done (VBool (signal n (envInputs e))))
+  SignalOutput n -> Exec $ \_ m -> Done . VBool . (/= 0) <$> MU.unsafeRead (mCounters m) (ixOutput (clampSignal n))
+  OverflowFlag -> Exec $ \_ m -> Done . VBool . (/= 0) <$> MU.unsafeRead (mCounters m) ixOverflow
   where
     t = varBasicType v
     def = defaultValue t
+
+-- | OUTPUT1..3 only (the checker knows no others).
+clampSignal :: Int -> Int
+clampSignal n = max 1 (min 3 n)
 
 signal :: Int -> (Bool, Bool, Bool) -> Bool
 signal n (a, b, c) = case n of
@@ -159,39 +252,34 @@ signal n (a, b, c) = case n of
   3 -> c
   _ -> False
 
-setSignal :: Int -> Bool -> (Bool, Bool, Bool) -> (Bool, Bool, Bool)
-setSignal n x (a, b, c) = case n of
-  1 -> (x, b, c)
-  2 -> (a, x, c)
-  3 -> (a, b, x)
-  _ -> (a, b, c)
-
-readScalar :: Var -> Exec Value
+readScalar :: Var -> Exec s Value
 readScalar v = readElement v 0
 
 -- | Write element @off@ of a variable. INPUTn are read-only (MT-SIG-2); the
 -- checker never produces such a write, and it is ignored here.
-writeElement :: Var -> Int -> Value -> Exec ()
+writeElement :: Var -> Int -> Value -> Exec s ()
 writeElement v off = case varHome v of
-  Data i -> let k = i + off in \x -> modifyM $ \m -> m {mData = IM.insert k x (mData m)}
-  Frame i -> let k = i + off in \x -> modifyM $ \m -> m {mFrame = IM.insert k x (mFrame m)}
-  Mapped o -> let o' = elementOperand o off in \x -> modifyM $ \m -> m {mMemory = writeOperand o' x (mMemory m)}
+  Data i -> let k = i + off in \x -> Exec $ \_ m -> Done <$> writeSlot (mData m) k x
+  Frame i -> let k = i + off in \x -> Exec $ \_ m -> readSTRef (mFrame m) >>= \f -> Done <$> writeSlot f k x
+  Mapped o -> let o' = elementOperand o off in \x -> Exec $ \_ m -> Done <$> modifySTRef' (mMemory m) (writeOperand o' x)
   SignalInput _ -> \_ -> pure ()
-  SignalOutput n -> \x -> modifyM $ \m -> m {mOutputs = setSignal n (boolOf x) (mOutputs m)}
-  OverflowFlag -> \x -> modifyM $ \m -> m {mOverflow = boolOf x}
+  SignalOutput n
+    | n >= 1 && n <= 3 -> \x -> Exec $ \_ m -> Done <$> MU.unsafeWrite (mCounters m) (ixOutput n) (fromEnum (boolOf x))
+    | otherwise -> \_ -> pure ()
+  OverflowFlag -> \x -> setOverflow (boolOf x)
   where
     boolOf = \case
       VBool b -> b
       _ -> False
 
-writeScalar :: Var -> Value -> Exec ()
+writeScalar :: Var -> Value -> Exec s ()
 writeScalar v = writeElement v 0
 
 -- | Give a variable its initial value (MT-VAR-3, MT-VAR-4, MT-ARR-6): the
 -- initialiser, or the type default; a mapped variable without initialiser
 -- is left alone (MT-VAR-3, MT-MAP-4 b), one with an initialiser is written
 -- (decision A3, MT-MAP-15).
-initVar :: VarInit -> Exec ()
+initVar :: VarInit -> Exec s ()
 initVar (VarInit v ini) = case (varHome v, ini) of
   (Mapped _, Nothing) -> pure ()
   (_, Nothing) -> mapM_ (\k -> writeElement v k def) [0 .. varElements v - 1]
@@ -199,6 +287,19 @@ initVar (VarInit v ini) = case (varHome v, ini) of
   (_, Just (InitArray xs)) -> mapM_ (uncurry (writeElement v)) (zip [0 .. varElements v - 1] xs)
   where
     def = defaultValue (varBasicType v)
+
+-- | The type defaults of the slots of a vector (data area or frame): every
+-- slot of every given variable with the given home, the rest FALSE.
+slotDefaults :: (Home -> Maybe Int) -> Int -> [Var] -> V.Vector Value
+slotDefaults base size vars =
+  V.replicate (max size top) (VBool False)
+    V.// [ (i + k, defaultValue (varBasicType v))
+         | v <- vars
+         , Just i <- [base (varHome v)]
+         , k <- [0 .. varElements v - 1]
+         ]
+  where
+    top = maximum (0 : [i + varElements v | v <- vars, Just i <- [base (varHome v)]])
 
 --------------------------------------------------------------------------------
 -- Translation
@@ -212,41 +313,60 @@ data Flow = Next | Exiting | Returning
 -- | A translated module: the program body and the functions, each a
 -- closure.
 data CompiledModule = CompiledModule
-  { cmBody :: Exec Flow
-  , cmFunctionMeanings :: IntMap ([Value] -> Exec Value)
+  { cmBody :: forall s. Exec s Flow
+  , cmFunctionMeanings :: IntMap Function
+  , cmDataDefaults :: V.Vector Value -- ^ the initial data area: every slot at its type default
   }
+
+-- | The meaning of a function: arguments to result.
+newtype Function = Function (forall s. [Value] -> Exec s Value)
 
 data Ctx = Ctx
   { cxPolicies :: Policies
-  , cxFunctions :: IntMap ([Value] -> Exec Value)
+  , cxFunctions :: IntMap Function
   }
 
 -- | Translate the whole module once. Functions refer to each other through
 -- the lazily built table of meanings (a knot: each function is translated
 -- once, however often it is called).
 compileModule :: Policies -> CModule -> CompiledModule
-compileModule pol cm = CompiledModule body funs
+compileModule pol cm = CompiledModule (compileBlock ctx (cpBody prog)) funs defaults
   where
     ctx = Ctx pol funs
-    funs = IM.map (compileFunction ctx) (cmFunctions cm)
-    body = compileBlock ctx (cpBody (cmProgram cm))
+    funs = IM.map (\f -> Function (compileFunction ctx f)) (cmFunctions cm)
+    prog = cmProgram cm
+    defaults =
+      slotDefaults dataSlot (cmDataSize cm) $
+        map viVar (cmInits cm) ++ cpInputs prog ++ cpInOuts prog ++ cpOutputs prog ++ map snd (cmNamed cm)
+    dataSlot = \case
+      Data i -> Just i
+      _ -> Nothing
 
 -- | A function call in a fresh frame (MT-SCOPE-7): the result slot starts
 -- at its type default, the parameters take the arguments in declaration
 -- order (MT-POU-5), the locals their initial values; the result is the
 -- result slot when the body ends or returns (MT-POU-4, MT-STMT-4).
-compileFunction :: Ctx -> CFunction -> [Value] -> Exec Value
+compileFunction :: Ctx -> CFunction -> [Value] -> Exec s Value
 compileFunction ctx f = \args -> do
-  modifyM $ \m -> m {mFrame = IM.singleton 0 (defaultValue (cfResult f))}
+  Exec $ \_ m -> V.thaw template >>= \fr -> Done <$> writeSTRef (mFrame m) fr
   mapM_ (uncurry writeScalar) (zip (cfParams f) args)
   mapM_ initVar (cfLocals f)
   _ <- body
-  getsM (IM.findWithDefault (defaultValue (cfResult f)) 0 . mFrame)
+  Exec $ \_ m -> readSTRef (mFrame m) >>= \fr -> Done <$> readSlot fr result 0
   where
     body = compileBlock ctx (cfBody f)
+    result = defaultValue (cfResult f)
+    frameSlot = \case
+      Frame i -> Just i
+      _ -> Nothing
+    -- slot 0 is the result, at its default; the others at their types'
+    -- defaults until written
+    template =
+      slotDefaults frameSlot (cfFrameSize f) (cfParams f ++ map viVar (cfLocals f))
+        V.// [(0, result)]
 
 -- | A statement list: stops at the first EXIT or RETURN.
-compileBlock :: Ctx -> [CStmt] -> Exec Flow
+compileBlock :: Ctx -> [CStmt] -> Exec s Flow
 compileBlock ctx = go . map (compileStmt ctx)
   where
     go [] = pure Next
@@ -258,27 +378,44 @@ compileBlock ctx = go . map (compileStmt ctx)
 
 -- | Apply an operator outcome: a runtime error at the node's line, or the
 -- value with its effect on INTERNAL_OVERFLOW (MT-OP-7).
-outcome :: Line -> O.Outcome -> Exec Value
+outcome :: Line -> O.Outcome -> Exec s Value
 outcome line = \case
   Left code -> failWith code line
-  Right (v, flag) -> do
-    case flag of
-      Just b -> modifyM (\m -> m {mOverflow = b})
-      Nothing -> pure ()
-    pure v
+  Right (v, flag) -> case flag of
+    Just b -> Exec $ \_ m -> Done v <$ MU.unsafeWrite (mCounters m) ixOverflow (fromEnum b)
+    Nothing -> pure v
+{-# INLINE outcome #-}
 
-asBool :: Line -> Value -> Exec Bool
+asBool :: Line -> Value -> Exec s Bool
 asBool line = \case
   VBool b -> pure b
   _ -> failWith errMalformed line
 
-asInteger :: Line -> Value -> Exec Integer
+asInteger :: Line -> Value -> Exec s Integer
 asInteger line v = maybe (failWith errMalformed line) pure (valueToInteger v)
 
 -- | The 0-based element of an array for an index value, under the
 -- @index-out-of-range@ policy (MT-ARR-2, MT-ARR-8, decision A23).
-elementIndex :: Policies -> Line -> Var -> Value -> Exec Int
-elementIndex pol line v iv = do
+elementIndex :: Policies -> Line -> Var -> Value -> Exec s Int
+elementIndex pol line v = case varType v of
+  Array lo hi _
+    | lo >= toInteger dintMin && hi <= toInteger dintMax ->
+        -- the common case without Integer: a DINT index within DINT bounds
+        let loI = fromInteger lo :: Int
+            hiI = fromInteger hi :: Int
+         in \case
+              VDInt k32
+                | k >= loI && k <= hiI -> pure (k - loI)
+                where
+                  k = fromIntegral k32
+              iv -> elementIndexRef pol line v iv
+  _ -> elementIndexRef pol line v
+  where
+    dintMin = minBound :: Int32
+    dintMax = maxBound :: Int32
+
+elementIndexRef :: Policies -> Line -> Var -> Value -> Exec s Int
+elementIndexRef pol line v iv = do
   k <- asInteger line iv
   case varType v of
     Basic _ -> failWith errMalformed line
@@ -289,7 +426,7 @@ elementIndex pol line v iv = do
           IndexTrap -> failWith trapIndex line
           IndexClamp -> pure (fromInteger (max lo (min hi k) - lo))
 
-compileExpr :: Ctx -> CExpr -> Exec Value
+compileExpr :: Ctx -> CExpr -> Exec s Value
 compileExpr ctx = \case
   CLit v -> pure v
   CRead v -> readScalar v
@@ -298,7 +435,8 @@ compileExpr ctx = \case
      in ixE >>= elementIndex pol line v >>= readElement v
   CConv from to e ->
     let eE = compileExpr ctx e
-     in convert pol from to <$> eE -- MT-CONV-5
+        conv = convertFast pol from to
+     in conv <$> eE -- MT-CONV-5
   CNeg line _ e ->
     let eE = compileExpr ctx e
      in eE >>= outcome line . O.negateValue pol -- MT-OP-4, MT-OP-6
@@ -306,11 +444,19 @@ compileExpr ctx = \case
   CArith line op _ a b ->
     let aE = compileExpr ctx a
         bE = compileExpr ctx b
+        f = arithFast pol op
      in do
           x <- aE
           y <- bE
-          outcome line (O.arith pol op x y)
-  CCompare op _ a b -> O.compareValues op <$> compileExpr ctx a <*> compileExpr ctx b >>= pure . VBool
+          outcome line (f x y)
+  CCompare op _ a b ->
+    let aE = compileExpr ctx a
+        bE = compileExpr ctx b
+        f = compareFast op
+     in do
+          x <- aE
+          y <- bE
+          pure (VBool (f x y))
   CLogic op t a b ->
     let aE = compileExpr ctx a
         bE = compileExpr ctx b
@@ -335,24 +481,23 @@ compileExpr ctx = \case
 -- | A call: arguments left to right (decision A18), then a new frame one
 -- level deeper; a 17th nested frame is runtime error 2050 at the line of the
 -- call (MT-POU-9, decision A27). The caller's frame comes back afterwards.
-compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Exec Value
+compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Exec s Value
 compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
   Nothing -> failWith errMalformed line
-  Just fun ->
+  Just (Function fun) ->
     let argsE = traverse (compileExpr ctx) args
      in do
           vs <- argsE
           Exec $ \e m ->
             if envDepth e >= maxCallDepth
-              then Failed (runtimeError errCallDepth line) m -- MT-ERR-2050
-              else
-                let saved = mFrame m
-                    e' = e {envDepth = envDepth e + 1}
-                 in case unExec (fun vs) e' m of
-                      Done v m' -> Done v m' {mFrame = saved}
-                      Failed x m' -> Failed x m' {mFrame = saved}
+              then pure (Failed (runtimeError errCallDepth line)) -- MT-ERR-2050
+              else do
+                saved <- readSTRef (mFrame m)
+                r <- unExec (fun vs) e {envDepth = envDepth e + 1} m
+                writeSTRef (mFrame m) saved
+                pure r
 
-compileStmt :: Ctx -> CStmt -> Exec Flow
+compileStmt :: Ctx -> CStmt -> Exec s Flow
 compileStmt ctx = \case
   SAssign line target e ->
     -- MT-STMT-2: the right side is evaluated before the index of the target
@@ -449,7 +594,7 @@ compileStmt ctx = \case
 --
 -- A step of 0 never passes the end: the loop runs until the budget (2030)
 -- unless start > end.
-compileFor :: Ctx -> Line -> Var -> CExpr -> CExpr -> CExpr -> [CStmt] -> Exec Flow
+compileFor :: Ctx -> Line -> Var -> CExpr -> CExpr -> CExpr -> [CStmt] -> Exec s Flow
 compileFor ctx line cv start end by body = do
   step
   readStart >>= writeScalar cv
@@ -467,6 +612,7 @@ compileFor ctx line cv start end by body = do
     readStep = compileExpr ctx by
     bodyE = compileBlock ctx body
     t = varBasicType cv
+    intRangeInt = (\(lo, hi) -> (fromInteger lo, fromInteger hi) :: (Int, Int)) <$> intRange t
     loop bounds = go
       where
         go = do
@@ -486,10 +632,10 @@ compileFor ctx line cv start end by body = do
     increment s = do
       c <- readScalar cv
       case pForAtTypeMax pol of
-        StopAtEnd -> case (valueToInteger c, valueToInteger s, intRange t) of
+        StopAtEnd -> case (valueToInt c, valueToInt s, intRangeInt) of
           (Just ci, Just si, Just (lo, hi))
             | ci + si < lo || ci + si > hi -> pure False
-            | otherwise -> writeScalar cv (integerToValue t (ci + si)) >> pure True
+            | otherwise -> writeScalar cv (integerToValue t (toInteger (ci + si))) >> pure True
           _ -> case (c, s) of
             (VReal x, VReal y) -> writeScalar cv (VReal (x + y)) >> pure True
             _ -> failWith errMalformed line
@@ -501,7 +647,7 @@ compileFor ctx line cv start end by body = do
 -- | Numeric order of two values of one type (integers and bit strings by
 -- their number, REAL by IEEE order with NaN treated as equal).
 numCompare :: Value -> Value -> Ordering
-numCompare a b = case (valueToInteger a, valueToInteger b, a, b) of
+numCompare a b = case (valueToInt a, valueToInt b, a, b) of
   (Just x, Just y, _, _) -> compare x y
   (_, _, VReal x, VReal y)
     | x < y -> LT
