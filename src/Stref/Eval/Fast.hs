@@ -10,6 +10,7 @@ module Stref.Eval.Fast
   , compareFast
   , convertFast
   , valueToInt
+  , intToValue
   ) where
 
 import Data.Int (Int16, Int32)
@@ -180,3 +181,16 @@ valueToInt = \case
   VDWord w -> Just (fromIntegral w)
   VReal _ -> Nothing
 {-# INLINE valueToInt #-}
+
+-- | 'integerToValue' from an 'Int' (the same low bits; REAL by the nearest
+-- binary32 through the reference).
+intToValue :: BasicType -> Int -> Value
+intToValue t n = case t of
+  INT -> VInt (fromIntegral n)
+  DINT -> VDInt (fromIntegral n)
+  USINT -> VUSInt (fromIntegral n)
+  BYTE -> VByte (fromIntegral n)
+  WORD -> VWord (fromIntegral n)
+  DWORD -> VDWord (fromIntegral n)
+  BOOL -> VBool (n /= 0)
+  REAL -> integerToValue REAL (toInteger n)
