@@ -27,54 +27,62 @@ import Stref.Values
 -- | 'O.arith' with the policy and operator fixed once (MT-OP-4..10).
 arithFast :: Policies -> ArithOp -> Value -> Value -> O.Outcome
 arithFast p op = \a b -> case (a, b) of
-  (VInt x, VInt y) -> int INT VInt (fromIntegral x) (fromIntegral y)
-  (VDInt x, VDInt y) -> int DINT VDInt (fromIntegral x) (fromIntegral y)
-  (VReal x, VReal y) -> real x y
-  (VUSInt x, VUSInt y) -> int USINT VUSInt (fromIntegral x) (fromIntegral y)
+  (VInt x, VInt y) -> onInt (fromIntegral x) (fromIntegral y)
+  (VDInt x, VDInt y) -> onDInt (fromIntegral x) (fromIntegral y)
+  (VReal x, VReal y) -> realArith p op x y
+  (VUSInt x, VUSInt y) -> onUSInt (fromIntegral x) (fromIntegral y)
   _ -> O.arith p op a b
   where
-    int :: Num w => BasicType -> (w -> Value) -> Int -> Int -> O.Outcome
-    int t mk = intArith p op t (mk . fromIntegral)
-    real = realArith p op
-{-# INLINE arithFast #-}
+    -- the operation on each type, chosen once
+    onInt = intArith p op INT (\r -> VInt (fromIntegral r))
+    onDInt = intArith p op DINT (\r -> VDInt (fromIntegral r))
+    onUSInt = intArith p op USINT (\r -> VUSInt (fromIntegral r))
 
--- | 'Stref.Operators' intArith on 'Int' (the same case analysis).
+-- | 'Stref.Operators' intArith on 'Int' (the same case analysis), with the
+-- operator, type and policies fixed once.
 intArith :: Policies -> ArithOp -> BasicType -> (Int -> Value) -> Int -> Int -> O.Outcome
-intArith p op t mk x y = case op of
-  OpAdd -> setsFlag (x + y)
-  OpSub -> setsFlag (x - y)
-  OpMul -> setsFlag (x * y)
-  OpDiv
-    | y == 0 -> case pDivZero p of
+intArith p op t mk = case op of
+  OpAdd -> \x y -> setsFlag (x + y)
+  OpSub -> \x y -> setsFlag (x - y)
+  OpMul -> \x y -> setsFlag (x * y)
+  OpDiv -> \x y ->
+    if y == 0
+      then case pDivZero p of
         DivZeroError -> Left errDivisionByZero -- MT-OP-9, MT-ERR-2020
         DivZeroZero -> Right (mk 0, Nothing)
         DivZeroTrap -> Left trapDivisionByZero
-    | otherwise -> keepsFlag (divide (pModSign p) x y) -- MT-OP-10, A7
-  OpMod
-    | y == 0 -> case pModZero p of
+      else keepsFlag (divide (pModSign p) x y) -- MT-OP-10, A7
+  OpMod -> \x y ->
+    if y == 0
+      then case pModZero p of
         ModZeroZero -> Right (mk 0, Nothing) -- MT-OP-8
         ModZeroError -> Left errModZero
-    | otherwise -> keepsFlag (modulo (pModSign p) x y)
+      else keepsFlag (modulo (pModSign p) x y)
   where
     (lo, hi) = range t
-    setsFlag exact = case store exact of
-      Right (v, o) -> Right (v, Just o) -- MT-OP-7
-      Left e -> Left e
-    keepsFlag exact = case store exact of
-      Right (v, _) -> Right (v, Nothing)
-      Left e -> Left e
-    store exact = case pArithWidth p of
-      OperandType -> (\(r, o) -> (mk r, o)) <$> overflowIn lo hi exact
-      Promote32 -> (\(r, o) -> (mk (narrow r), o)) <$> overflowIn dintLo dintHi exact
-    overflowIn l h exact
-      | l <= exact && exact <= h = Right (exact, False)
+    (wl, wh) = case pArithWidth p of
+      OperandType -> (lo, hi)
+      Promote32 -> (dintLo, dintHi)
+    -- MT-OP-7: + - * set the flag to whether the result overflowed
+    setsFlag exact
+      | wl <= exact && exact <= wh = Right (mk (narrow exact), Just False)
       | otherwise = case pOverflow p of
-          Saturate -> Right (max l (min h exact), True) -- MT-OP-6
-          Wrap -> Right (wrapIn l h exact, True)
+          Saturate -> Right (mk (narrow (max wl (min wh exact))), Just True) -- MT-OP-6
+          Wrap -> Right (mk (narrow (wrapIn wl wh exact)), Just True)
           Trap -> Left trapOverflow
-    narrow r = case pNarrowInt p of
-      NarrowWrap -> wrapIn lo hi r
-      NarrowSaturate -> max lo (min hi r)
+    keepsFlag exact
+      | wl <= exact && exact <= wh = Right (mk (narrow exact), Nothing)
+      | otherwise = case pOverflow p of
+          Saturate -> Right (mk (narrow (max wl (min wh exact))), Nothing)
+          Wrap -> Right (mk (narrow (wrapIn wl wh exact)), Nothing)
+          Trap -> Left trapOverflow
+    -- under promote-32 the 32-bit result is narrowed to the type like an
+    -- integer narrowing conversion (the identity under operand-type)
+    narrow = case pArithWidth p of
+      OperandType -> id
+      Promote32 -> case pNarrowInt p of
+        NarrowWrap -> wrapIn lo hi
+        NarrowSaturate -> \r -> max lo (min hi r)
 
 wrapIn :: Int -> Int -> Int -> Int
 wrapIn lo hi x = lo + (x - lo) `mod` (hi - lo + 1)
