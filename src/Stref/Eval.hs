@@ -5,17 +5,24 @@
 -- closure again, it never walks the tree again. The policies are fixed at
 -- translation time, so a closure already is the meaning under one dialect.
 --
--- Everything here is pure: the machine state is threaded explicitly, a
--- runtime error is a value that carries the state at the moment it occurred
--- (operand writes made before an error persist, MT-EXEC-8).
+-- Everything here is pure: the closures run in 'ST' over a machine of
+-- mutable slots (variables resolved to vector indices when the closure is
+-- built), and a module call is one 'runST'. A runtime error stops the
+-- closures; the machine keeps the state at the moment it occurred (operand
+-- writes made before an error persist, MT-EXEC-8).
+{-# LANGUAGE RankNTypes #-}
 module Stref.Eval
   ( -- * The machine
     Machine (..)
+  , newMachine
+  , Snapshot (..)
+  , snapshot
+  , snapshotElement
   , Env (..)
   , Res (..)
   , Exec (..)
-  , runExec
   , failWith
+  , getMemory
   , maxCallDepth
   , errMalformed
     -- * Variables
@@ -34,27 +41,92 @@ module Stref.Eval
   , compileBlock
   ) where
 
+import Control.Monad.ST (ST)
 import qualified Data.IntMap.Strict as IM
+import Data.Int (Int32)
 import Data.IntMap.Strict (IntMap)
+import Data.STRef
+import qualified Data.Vector as V
+import qualified Data.Vector.Mutable as MV
+import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.Checked
-import Stref.Conversions (convert)
 import Stref.Diagnostics
+import Stref.Eval.Fast
 import Stref.Operands
 import qualified Stref.Operators as O
 import Stref.Policy
 import Stref.Types
 import Stref.Values
 
--- | The state one module call works on.
-data Machine = Machine
-  { mData :: !(IntMap Value) -- ^ the module data area (MT-MAP-1)
-  , mFrame :: !(IntMap Value) -- ^ the active function call's frame (MT-SCOPE-7)
-  , mMemory :: !Memory -- ^ the PLC operands
-  , mOutputs :: !(Bool, Bool, Bool) -- ^ OUTPUT1..3 (MT-SIG-4)
-  , mOverflow :: !Bool -- ^ INTERNAL_OVERFLOW (MT-OP-7)
-  , mSteps :: !Int -- ^ steps used of the budget (MT-EXEC-7)
+-- | The state one module call works on: mutable slots, valid inside one
+-- 'runST'.
+data Machine s = Machine
+  { mData :: !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
+  , mFrame :: !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
+  , mMemory :: !(STRef s Memory) -- ^ the PLC operands
+  , mCounters :: !(MU.MVector s Int)
+  -- ^ steps used of the budget (MT-EXEC-7), INTERNAL_OVERFLOW (MT-OP-7),
+  -- OUTPUT1..3 (MT-SIG-4), whether a runtime error occurred, at the
+  -- indices below
+  , mError :: !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
   }
-  deriving (Eq, Show)
+
+ixSteps, ixOverflow, ixFailed :: Int
+ixSteps = 0
+ixOverflow = 1
+ixFailed = 5
+
+-- | OUTPUTn is counter 1 + n.
+ixOutput :: Int -> Int
+ixOutput n = 1 + n
+
+-- | A machine with the data area taken from the retained slots, or else
+-- every slot at its type default (so reading a slot before any write gives
+-- the default, as MT-VAR-3 asks); OUTPUT1 TRUE, the others and the flag
+-- FALSE, no steps used.
+newMachine :: CompiledModule -> IntMap Value -> Memory -> (Bool, Bool, Bool) -> ST s (Machine s)
+newMachine cm retained mem (o1, o2, o3) = do
+  d <- V.thaw (V.imap (\k def -> IM.findWithDefault def k retained) (cmDataDefaults cm))
+  f <- MV.replicate 0 (VBool False)
+  fr <- newSTRef f
+  mr <- newSTRef mem
+  cs <- MU.replicate 6 0
+  MU.write cs (ixOutput 1) (fromEnum o1)
+  MU.write cs (ixOutput 2) (fromEnum o2)
+  MU.write cs (ixOutput 3) (fromEnum o3)
+  er <- newSTRef (runtimeError errMalformed 0)
+  pure (Machine d fr mr cs er)
+
+-- | The machine's state after a call, immutable.
+data Snapshot = Snapshot
+  { snData :: !(V.Vector Value)
+  , snMemory :: !Memory
+  , snOutputs :: !(Bool, Bool, Bool)
+  , snOverflow :: !Bool
+  , snSteps :: !Int
+  }
+
+snapshot :: Machine s -> ST s Snapshot
+snapshot m = do
+  d <- V.freeze (mData m)
+  mem <- readSTRef (mMemory m)
+  cs <- mapM (MU.read (mCounters m)) [0 .. 4]
+  case cs of
+    [steps, o, a, b, c] -> pure (Snapshot d mem (a /= 0, b /= 0, c /= 0) (o /= 0) steps)
+    _ -> pure (Snapshot d mem (False, False, False) False 0)
+
+-- | Element @off@ of a variable in a snapshot; frame variables (no frame is
+-- active after a call) and INPUTn read their defaults.
+snapshotElement :: Env -> Snapshot -> Var -> Int -> Value
+snapshotElement env sn v off = case varHome v of
+  Data i -> maybe def id (snData sn V.!? (i + off))
+  Frame _ -> def
+  Mapped o -> readOperand (snMemory sn) (elementOperand o off) (varBasicType v)
+  SignalInput n -> VBool (signal n (envInputs env))
+  SignalOutput n -> VBool (signal n (snOutputs sn))
+  OverflowFlag -> VBool (snOverflow sn)
+  where
+    def = defaultValue (varBasicType v)
 
 -- | What does not change while a closure runs: the module inputs and the
 -- number of active function frames.
@@ -64,44 +136,47 @@ data Env = Env
   }
   deriving (Eq, Show)
 
--- | The outcome of running a closure: a value and the new state, or a
--- runtime error and the state at the moment of the error.
+-- | The outcome of running a closure: a value, or a runtime error (the
+-- machine holds the state at the moment of the error).
 data Res a
-  = Done a !Machine
-  | Failed !RuntimeError !Machine
+  = Done !a
+  | Failed !RuntimeError
 
--- | A state and error monad, written out so that it stays small and fast.
-newtype Exec a = Exec {unExec :: Env -> Machine -> Res a}
+-- | A reader of the environment and an error monad over 'ST', written out
+-- so that it stays small and fast.
+newtype Exec s a = Exec {unExec :: Env -> Machine s -> ST s (Res a)}
 
-runExec :: Exec a -> Env -> Machine -> Res a
-runExec = unExec
+instance Functor (Exec s) where
+  fmap f (Exec g) = Exec $ \e m ->
+    g e m >>= \case
+      Done a -> pure (Done (f a))
+      Failed x -> pure (Failed x)
+  {-# INLINE fmap #-}
 
-instance Functor Exec where
-  fmap f (Exec g) = Exec $ \e m -> case g e m of
-    Done a m' -> Done (f a) m'
-    Failed x m' -> Failed x m'
+instance Applicative (Exec s) where
+  pure a = Exec $ \_ _ -> pure (Done a)
+  {-# INLINE pure #-}
+  Exec f <*> Exec g = Exec $ \e m ->
+    f e m >>= \case
+      Failed x -> pure (Failed x)
+      Done h ->
+        g e m >>= \case
+          Failed x -> pure (Failed x)
+          Done a -> pure (Done (h a))
+  {-# INLINE (<*>) #-}
 
-instance Applicative Exec where
-  pure a = Exec $ \_ m -> Done a m
-  Exec f <*> Exec g = Exec $ \e m -> case f e m of
-    Failed x m' -> Failed x m'
-    Done h m' -> case g e m' of
-      Failed x m'' -> Failed x m''
-      Done a m'' -> Done (h a) m''
+instance Monad (Exec s) where
+  Exec g >>= k = Exec $ \e m ->
+    g e m >>= \case
+      Failed x -> pure (Failed x)
+      Done a -> unExec (k a) e m
+  {-# INLINE (>>=) #-}
 
-instance Monad Exec where
-  Exec g >>= k = Exec $ \e m -> case g e m of
-    Failed x m' -> Failed x m'
-    Done a m' -> unExec (k a) e m'
+failWith :: ErrorCode -> Line -> Exec s a
+failWith c l = Exec $ \_ _ -> pure (Failed (runtimeError c l))
 
-getsM :: (Machine -> a) -> Exec a
-getsM f = Exec $ \_ m -> Done (f m) m
-
-modifyM :: (Machine -> Machine) -> Exec ()
-modifyM f = Exec $ \_ m -> Done () (f m)
-
-failWith :: ErrorCode -> Line -> Exec a
-failWith c l = Exec $ \_ m -> Failed (runtimeError c l) m
+getMemory :: Exec s Memory
+getMemory = Exec $ \_ m -> Done <$> readSTRef (mMemory m)
 
 -- | MT-POU-9, MT-LIM-1: at most 16 nested function calls.
 maxCallDepth :: Int
@@ -112,14 +187,27 @@ maxCallDepth = 16
 errMalformed :: ErrorCode
 errMalformed = 9999
 
+-- | Record a runtime error: the closures stop at the next check (see
+-- 'Meaning'); the value returned is never used.
+raise :: Machine s -> RuntimeError -> ST s Value
+raise m err = do
+  writeSTRef (mError m) err
+  MU.unsafeWrite (mCounters m) ixFailed 1
+  pure (VBool False)
+
+hasFailed :: Machine s -> ST s Bool
+hasFailed m = (/= 0) <$> MU.unsafeRead (mCounters m) ixFailed
+{-# INLINE hasFailed #-}
+
 -- | One step of the budget; exceeding it is runtime error 2030 at the line
--- being executed (MT-EXEC-7).
-tick :: Int -> Line -> Exec ()
-tick budget line = Exec $ \_ m ->
-  let s = mSteps m + 1
-   in if s > budget
-        then Failed (runtimeError errExecutionTime line) m
-        else Done () m {mSteps = s}
+-- being executed (MT-EXEC-7). FALSE when the budget is exhausted.
+tick :: Int -> Line -> Machine s -> ST s Bool
+tick budget line m = do
+  s <- MU.unsafeRead (mCounters m) ixSteps
+  if s >= budget
+    then False <$ raise m (runtimeError errExecutionTime line)
+    else True <$ MU.unsafeWrite (mCounters m) ixSteps (s + 1)
+{-# INLINE tick #-}
 
 --------------------------------------------------------------------------------
 -- Variables
@@ -138,19 +226,43 @@ elementOperand op off = case op of
   OpBit k a b -> OpBit k (a + off) b -- never reached: mapped arrays are not BOOL (MT-MAP-11)
   OpTablePos k a p -> OpTablePos k a (p + off)
 
+-- | A slot of a vector, or the default outside it (never for a checked
+-- program: the slots cover every variable).
+readSlot :: MV.MVector s Value -> Value -> Int -> ST s Value
+readSlot vec def k
+  | k >= 0 && k < MV.length vec = MV.unsafeRead vec k
+  | otherwise = pure def
+{-# INLINE readSlot #-}
+
+writeSlot :: MV.MVector s Value -> Int -> Value -> ST s ()
+writeSlot vec k x
+  | k >= 0 && k < MV.length vec = MV.unsafeWrite vec k x
+  | otherwise = pure ()
+{-# INLINE writeSlot #-}
+
 -- | Read element @off@ (0-based) of a variable; 0 for a scalar. The home
 -- is inspected when the closure is built, not when it runs.
-readElement :: Var -> Int -> Exec Value
-readElement v off = case varHome v of
-  Data i -> let k = i + off in Exec $ \_ m -> Done (IM.findWithDefault def k (mData m)) m
-  Frame i -> let k = i + off in Exec $ \_ m -> Done (IM.findWithDefault def k (mFrame m)) m
-  Mapped o -> let o' = elementOperand o off in Exec $ \_ m -> Done (readOperand (mMemory m) o' t) m
-  SignalInput n -> Exec $ \e m -> Done (VBool (signal n (envInputs e))) m
-  SignalOutput n -> Exec $ \_ m -> Done (VBool (signal n (mOutputs m))) m
-  OverflowFlag -> Exec $ \_ m -> Done (VBool (mOverflow m)) m
+readElement :: Var -> Int -> Exec s Value
+readElement v off = let r = readRun v off in Exec $ \e m -> Done <$> r e m
+
+-- | A closure over the machine: the form the translated program takes.
+type Run s a = Env -> Machine s -> ST s a
+
+readRun :: Var -> Int -> Run s Value
+readRun v off = case varHome v of
+  Data i -> let k = i + off in \_ m -> readSlot (mData m) def k
+  Frame i -> let k = i + off in \_ m -> readSTRef (mFrame m) >>= \f -> readSlot f def k
+  Mapped o -> let o' = elementOperand o off in \_ m -> (\mem -> readOperand mem o' t) <$> readSTRef (mMemory m)
+  SignalInput n -> \e _ -> pure (VBool (signal n (envInputs e)))
+  SignalOutput n -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) (ixOutput (clampSignal n))
+  OverflowFlag -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) ixOverflow
   where
     t = varBasicType v
     def = defaultValue t
+
+-- | OUTPUT1..3 only (the checker knows no others).
+clampSignal :: Int -> Int
+clampSignal n = max 1 (min 3 n)
 
 signal :: Int -> (Bool, Bool, Bool) -> Bool
 signal n (a, b, c) = case n of
@@ -159,39 +271,37 @@ signal n (a, b, c) = case n of
   3 -> c
   _ -> False
 
-setSignal :: Int -> Bool -> (Bool, Bool, Bool) -> (Bool, Bool, Bool)
-setSignal n x (a, b, c) = case n of
-  1 -> (x, b, c)
-  2 -> (a, x, c)
-  3 -> (a, b, x)
-  _ -> (a, b, c)
-
-readScalar :: Var -> Exec Value
+readScalar :: Var -> Exec s Value
 readScalar v = readElement v 0
 
 -- | Write element @off@ of a variable. INPUTn are read-only (MT-SIG-2); the
 -- checker never produces such a write, and it is ignored here.
-writeElement :: Var -> Int -> Value -> Exec ()
-writeElement v off = case varHome v of
-  Data i -> let k = i + off in \x -> modifyM $ \m -> m {mData = IM.insert k x (mData m)}
-  Frame i -> let k = i + off in \x -> modifyM $ \m -> m {mFrame = IM.insert k x (mFrame m)}
-  Mapped o -> let o' = elementOperand o off in \x -> modifyM $ \m -> m {mMemory = writeOperand o' x (mMemory m)}
-  SignalInput _ -> \_ -> pure ()
-  SignalOutput n -> \x -> modifyM $ \m -> m {mOutputs = setSignal n (boolOf x) (mOutputs m)}
-  OverflowFlag -> \x -> modifyM $ \m -> m {mOverflow = boolOf x}
+writeElement :: Var -> Int -> Value -> Exec s ()
+writeElement v off = let w = writeRun v off in \x -> Exec $ \e m -> Done <$> w x e m
+
+writeRun :: Var -> Int -> Value -> Run s ()
+writeRun v off = case varHome v of
+  Data i -> let k = i + off in \x _ m -> writeSlot (mData m) k x
+  Frame i -> let k = i + off in \x _ m -> readSTRef (mFrame m) >>= \f -> writeSlot f k x
+  Mapped o -> let o' = elementOperand o off in \x _ m -> modifySTRef' (mMemory m) (writeOperand o' x)
+  SignalInput _ -> \_ _ _ -> pure ()
+  SignalOutput n
+    | n >= 1 && n <= 3 -> \x _ m -> MU.unsafeWrite (mCounters m) (ixOutput n) (fromEnum (boolOf x))
+    | otherwise -> \_ _ _ -> pure ()
+  OverflowFlag -> \x _ m -> MU.unsafeWrite (mCounters m) ixOverflow (fromEnum (boolOf x))
   where
     boolOf = \case
       VBool b -> b
       _ -> False
 
-writeScalar :: Var -> Value -> Exec ()
+writeScalar :: Var -> Value -> Exec s ()
 writeScalar v = writeElement v 0
 
 -- | Give a variable its initial value (MT-VAR-3, MT-VAR-4, MT-ARR-6): the
 -- initialiser, or the type default; a mapped variable without initialiser
 -- is left alone (MT-VAR-3, MT-MAP-4 b), one with an initialiser is written
 -- (decision A3, MT-MAP-15).
-initVar :: VarInit -> Exec ()
+initVar :: VarInit -> Exec s ()
 initVar (VarInit v ini) = case (varHome v, ini) of
   (Mapped _, Nothing) -> pure ()
   (_, Nothing) -> mapM_ (\k -> writeElement v k def) [0 .. varElements v - 1]
@@ -200,236 +310,385 @@ initVar (VarInit v ini) = case (varHome v, ini) of
   where
     def = defaultValue (varBasicType v)
 
+-- | The type defaults of the slots of a vector (data area or frame): every
+-- slot of every given variable with the given home, the rest FALSE.
+slotDefaults :: (Home -> Maybe Int) -> Int -> [Var] -> V.Vector Value
+slotDefaults base size vars =
+  V.replicate (max size top) (VBool False)
+    V.// [ (i + k, defaultValue (varBasicType v))
+         | v <- vars
+         , Just i <- [base (varHome v)]
+         , k <- [0 .. varElements v - 1]
+         ]
+  where
+    top = maximum (0 : [i + varElements v | v <- vars, Just i <- [base (varHome v)]])
+
 --------------------------------------------------------------------------------
 -- Translation
 
 -- | How a statement ends: on to the next one, leaving the innermost loop
--- (EXIT, MT-STMT-12) or leaving the function or program (RETURN, MT-STMT-4,
--- MT-STMT-5).
-data Flow = Next | Exiting | Returning
+-- (EXIT, MT-STMT-12), leaving the function or program (RETURN, MT-STMT-4,
+-- MT-STMT-5), or stopped by a runtime error (in 'mError', MT-EXEC-8).
+data Flow = Next | Exiting | Returning | Failing
   deriving (Eq, Show)
 
 -- | A translated module: the program body and the functions, each a
 -- closure.
 data CompiledModule = CompiledModule
-  { cmBody :: Exec Flow
-  , cmFunctionMeanings :: IntMap ([Value] -> Exec Value)
+  { cmBody :: forall s. Exec s Flow
+  , cmFunctionMeanings :: IntMap Function
+  , cmDataDefaults :: V.Vector Value -- ^ the initial data area: every slot at its type default
   }
+
+-- | The meaning of a function: arguments to result.
+newtype Function = Function (forall s. [Value] -> Run s Value)
 
 data Ctx = Ctx
   { cxPolicies :: Policies
-  , cxFunctions :: IntMap ([Value] -> Exec Value)
+  , cxFunctions :: IntMap Function
   }
+
+-- | The meaning of an expression: a closure giving its value, and whether
+-- it can fail. After a closure that can fail, the caller looks at the
+-- machine's error flag before it goes on, so an error stops the evaluation
+-- at once (no later operand is evaluated, no later write happens).
+data Meaning s = Meaning !Bool (Run s Value)
 
 -- | Translate the whole module once. Functions refer to each other through
 -- the lazily built table of meanings (a knot: each function is translated
 -- once, however often it is called).
 compileModule :: Policies -> CModule -> CompiledModule
-compileModule pol cm = CompiledModule body funs
+compileModule pol cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults
   where
     ctx = Ctx pol funs
-    funs = IM.map (compileFunction ctx) (cmFunctions cm)
-    body = compileBlock ctx (cpBody (cmProgram cm))
+    funs = IM.map (\f -> Function (compileFunction ctx f)) (cmFunctions cm)
+    prog = cmProgram cm
+    defaults =
+      slotDefaults dataSlot (cmDataSize cm) $
+        map viVar (cmInits cm) ++ cpInputs prog ++ cpInOuts prog ++ cpOutputs prog ++ map snd (cmNamed cm)
+    dataSlot = \case
+      Data i -> Just i
+      _ -> Nothing
+
+-- | A statement closure as an 'Exec': 'Failing' becomes the error.
+flowExec :: Run s Flow -> Exec s Flow
+flowExec r = Exec $ \e m ->
+  r e m >>= \case
+    Failing -> Failed <$> readSTRef (mError m)
+    fl -> pure (Done fl)
+
+-- | An expression closure as an 'Exec'.
+compileExpr :: Ctx -> CExpr -> Exec s Value
+compileExpr ctx x =
+  let Meaning _ r = meaning ctx x
+   in Exec $ \e m -> do
+        v <- r e m
+        bad <- hasFailed m
+        if bad then Failed <$> readSTRef (mError m) else pure (Done v)
 
 -- | A function call in a fresh frame (MT-SCOPE-7): the result slot starts
 -- at its type default, the parameters take the arguments in declaration
 -- order (MT-POU-5), the locals their initial values; the result is the
 -- result slot when the body ends or returns (MT-POU-4, MT-STMT-4).
-compileFunction :: Ctx -> CFunction -> [Value] -> Exec Value
-compileFunction ctx f = \args -> do
-  modifyM $ \m -> m {mFrame = IM.singleton 0 (defaultValue (cfResult f))}
-  mapM_ (uncurry writeScalar) (zip (cfParams f) args)
-  mapM_ initVar (cfLocals f)
-  _ <- body
-  getsM (IM.findWithDefault (defaultValue (cfResult f)) 0 . mFrame)
+compileFunction :: Ctx -> CFunction -> [Value] -> Run s Value
+compileFunction ctx f = \args e m -> do
+  fr <- V.thaw template
+  writeSTRef (mFrame m) fr
+  sequence_ (zipWith (\w x -> w x e m) params args)
+  r <- unExec (mapM_ initVar (cfLocals f)) e m
+  case r of
+    Failed err -> raise m err
+    Done () ->
+      body e m >>= \case
+        Failing -> pure (VBool False)
+        _ -> readSTRef (mFrame m) >>= \fr' -> readSlot fr' result 0
   where
     body = compileBlock ctx (cfBody f)
+    params = map (`writeRun` 0) (cfParams f)
+    result = defaultValue (cfResult f)
+    frameSlot = \case
+      Frame i -> Just i
+      _ -> Nothing
+    -- slot 0 is the result, at its default; the others at their types'
+    -- defaults until written
+    template =
+      slotDefaults frameSlot (cfFrameSize f) (cfParams f ++ map viVar (cfLocals f))
+        V.// [(0, result)]
 
--- | A statement list: stops at the first EXIT or RETURN.
-compileBlock :: Ctx -> [CStmt] -> Exec Flow
+-- | A statement list: stops at the first EXIT, RETURN or error.
+compileBlock :: Ctx -> [CStmt] -> Run s Flow
 compileBlock ctx = go . map (compileStmt ctx)
   where
-    go [] = pure Next
+    go [] = \_ _ -> pure Next
+    go [s] = s
     go (s : ss) =
       let rest = go ss
-       in s >>= \case
-            Next -> rest
-            other -> pure other
+       in \e m ->
+            s e m >>= \case
+              Next -> rest e m
+              other -> pure other
+
+-- | Run an expression, then the continuation with its value, unless the
+-- expression failed.
+withValue :: Meaning s -> Env -> Machine s -> (Value -> ST s Flow) -> ST s Flow
+withValue (Meaning canFail r) e m k
+  | canFail = do
+      x <- r e m
+      bad <- hasFailed m
+      if bad then pure Failing else k x
+  | otherwise = r e m >>= k
+{-# INLINE withValue #-}
+
+-- | Evaluate two operands left to right (decision A18), stopping at an
+-- error, then combine them.
+binary :: Meaning s -> Meaning s -> (Machine s -> Value -> Value -> ST s Value) -> Bool -> Meaning s
+binary (Meaning fa ra) (Meaning fb rb) f canFail = Meaning (fa || fb || canFail) $ case (fa, fb) of
+  (False, False) -> \e m -> do
+    x <- ra e m
+    y <- rb e m
+    f m x y
+  _ -> \e m -> do
+    x <- ra e m
+    bad <- if fa then hasFailed m else pure False
+    if bad
+      then pure x
+      else do
+        y <- rb e m
+        bad' <- if fb then hasFailed m else pure False
+        if bad' then pure y else f m x y
+
+unary :: Meaning s -> (Machine s -> Value -> ST s Value) -> Bool -> Meaning s
+unary (Meaning fa ra) f canFail = Meaning (fa || canFail) $
+  if fa
+    then \e m -> do
+      x <- ra e m
+      bad <- hasFailed m
+      if bad then pure x else f m x
+    else \e m -> ra e m >>= f m
 
 -- | Apply an operator outcome: a runtime error at the node's line, or the
 -- value with its effect on INTERNAL_OVERFLOW (MT-OP-7).
-outcome :: Line -> O.Outcome -> Exec Value
-outcome line = \case
-  Left code -> failWith code line
-  Right (v, flag) -> do
-    case flag of
-      Just b -> modifyM (\m -> m {mOverflow = b})
-      Nothing -> pure ()
-    pure v
+outcome :: Line -> Machine s -> O.Outcome -> ST s Value
+outcome line m = \case
+  Left code -> raise m (runtimeError code line)
+  Right (v, flag) -> case flag of
+    Just b -> v <$ MU.unsafeWrite (mCounters m) ixOverflow (fromEnum b)
+    Nothing -> pure v
+{-# INLINE outcome #-}
 
-asBool :: Line -> Value -> Exec Bool
-asBool line = \case
-  VBool b -> pure b
-  _ -> failWith errMalformed line
-
-asInteger :: Line -> Value -> Exec Integer
-asInteger line v = maybe (failWith errMalformed line) pure (valueToInteger v)
+malformed :: Line -> Machine s -> ST s Value
+malformed line m = raise m (runtimeError errMalformed line)
 
 -- | The 0-based element of an array for an index value, under the
--- @index-out-of-range@ policy (MT-ARR-2, MT-ARR-8, decision A23).
-elementIndex :: Policies -> Line -> Var -> Value -> Exec Int
-elementIndex pol line v iv = do
-  k <- asInteger line iv
-  case varType v of
-    Basic _ -> failWith errMalformed line
-    Array lo hi _
-      | k >= lo && k <= hi -> pure (fromInteger (k - lo))
-      | otherwise -> case pIndexOutOfRange pol of
-          IndexError -> failWith errIndex line -- MT-ERR-2015
-          IndexTrap -> failWith trapIndex line
-          IndexClamp -> pure (fromInteger (max lo (min hi k) - lo))
+-- @index-out-of-range@ policy (MT-ARR-2, MT-ARR-8, decision A23); a
+-- negative number after an error was raised.
+elementIndex :: Policies -> Line -> Var -> Machine s -> Value -> ST s Int
+elementIndex pol line v = case varType v of
+  Array lo hi _
+    | lo >= toInteger dintMin && hi <= toInteger dintMax ->
+        -- the common case without Integer: a DINT index within DINT bounds
+        let loI = fromInteger lo :: Int
+            hiI = fromInteger hi :: Int
+         in \m -> \case
+              VDInt k32
+                | k >= loI && k <= hiI -> pure (k - loI)
+                where
+                  k = fromIntegral k32
+              iv -> elementIndexRef pol line v m iv
+  _ -> elementIndexRef pol line v
+  where
+    dintMin = minBound :: Int32
+    dintMax = maxBound :: Int32
 
-compileExpr :: Ctx -> CExpr -> Exec Value
-compileExpr ctx = \case
-  CLit v -> pure v
-  CRead v -> readScalar v
+elementIndexRef :: Policies -> Line -> Var -> Machine s -> Value -> ST s Int
+elementIndexRef pol line v m iv = case (valueToInteger iv, varType v) of
+  (Nothing, _) -> failed errMalformed
+  (_, Basic _) -> failed errMalformed
+  (Just k, Array lo hi _)
+    | k >= lo && k <= hi -> pure (fromInteger (k - lo))
+    | otherwise -> case pIndexOutOfRange pol of
+        IndexError -> failed errIndex -- MT-ERR-2015
+        IndexTrap -> failed trapIndex
+        IndexClamp -> pure (fromInteger (max lo (min hi k) - lo))
+  where
+    failed c = (-1) <$ raise m (runtimeError c line)
+
+-- | The meaning of an expression.
+meaning :: Ctx -> CExpr -> Meaning s
+meaning ctx = \case
+  CLit v -> Meaning False (\_ _ -> pure v)
+  CRead v -> Meaning False (readRun v 0)
   CReadIndex line v ix ->
-    let ixE = compileExpr ctx ix
-     in ixE >>= elementIndex pol line v >>= readElement v
-  CConv from to e ->
-    let eE = compileExpr ctx e
-     in convert pol from to <$> eE -- MT-CONV-5
-  CNeg line _ e ->
-    let eE = compileExpr ctx e
-     in eE >>= outcome line . O.negateValue pol -- MT-OP-4, MT-OP-6
-  CNot _ e -> O.notValue <$> compileExpr ctx e -- MT-OP-14
+    let index = elementIndex pol line v
+        -- the element closures, built once
+        elements = V.generate (varElements v) (readRun v)
+        Meaning fi ri = meaning ctx ix
+     in Meaning True $ \e m -> do
+          iv <- ri e m
+          bad <- if fi then hasFailed m else pure False
+          if bad
+            then pure iv
+            else do
+              k <- index m iv
+              if k < 0
+                then pure iv
+                else case elements V.!? k of
+                  Just r -> r e m
+                  Nothing -> malformed line m
+  CConv from to x ->
+    let conv = convertFast pol from to
+     in unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
+  CNeg line _ x -> unary (meaning ctx x) (\m v -> outcome line m (O.negateValue pol v)) True -- MT-OP-4, MT-OP-6
+  CNot _ x -> unary (meaning ctx x) (\_ v -> pure $! O.notValue v) False -- MT-OP-14
   CArith line op _ a b ->
-    let aE = compileExpr ctx a
-        bE = compileExpr ctx b
-     in do
-          x <- aE
-          y <- bE
-          outcome line (O.arith pol op x y)
-  CCompare op _ a b -> O.compareValues op <$> compileExpr ctx a <*> compileExpr ctx b >>= pure . VBool
+    let f = arithFast pol op
+     in binary (meaning ctx a) (meaning ctx b) (\m x y -> outcome line m (f x y)) True
+  CCompare op _ a b ->
+    let f = compareFast op
+     in binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (VBool (f x y))) False
   CLogic op t a b ->
-    let aE = compileExpr ctx a
-        bE = compileExpr ctx b
-        eager = O.logic op <$> aE <*> bE
+    let eager = binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure $! O.logic op x y) False
      in case (pShortCircuit pol, t, op) of
           -- decision A17: eager by default; the short-circuit alternative skips
           -- the right operand of AND/OR on BOOL when the left one decides
-          (ShortCircuit, BOOL, OpAnd) -> aE >>= \x -> if x == VBool False then pure x else O.logic op x <$> bE
-          (ShortCircuit, BOOL, OpOr) -> aE >>= \x -> if x == VBool True then pure x else O.logic op x <$> bE
+          (ShortCircuit, BOOL, OpAnd) -> shortCircuit (VBool False)
+          (ShortCircuit, BOOL, OpOr) -> shortCircuit (VBool True)
           _ -> eager
-  CCall line fid _ args -> compileCall ctx line fid args
-  CExpt line _ a b ->
-    let aE = compileExpr ctx a
-        bE = compileExpr ctx b
-     in do
-          x <- aE
-          y <- bE
-          outcome line (O.expt pol x y) -- MT-OP-20
+    where
+      shortCircuit decisive =
+        let Meaning fa ra = meaning ctx a
+            Meaning fb rb = meaning ctx b
+         in Meaning (fa || fb) $ \e m -> do
+              x <- ra e m
+              bad <- if fa then hasFailed m else pure False
+              if bad || x == decisive
+                then pure x
+                else do
+                  y <- rb e m
+                  bad' <- if fb then hasFailed m else pure False
+                  if bad' then pure y else pure $! O.logic op x y
+  CCall line fid _ args -> Meaning True (compileCall ctx line fid args)
+  CExpt line _ a b -> binary (meaning ctx a) (meaning ctx b) (\m x y -> outcome line m (O.expt pol x y)) True -- MT-OP-20
   where
     pol = cxPolicies ctx
 
 -- | A call: arguments left to right (decision A18), then a new frame one
 -- level deeper; a 17th nested frame is runtime error 2050 at the line of the
 -- call (MT-POU-9, decision A27). The caller's frame comes back afterwards.
-compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Exec Value
+compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Run s Value
 compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
-  Nothing -> failWith errMalformed line
-  Just fun ->
-    let argsE = traverse (compileExpr ctx) args
-     in do
-          vs <- argsE
-          Exec $ \e m ->
-            if envDepth e >= maxCallDepth
-              then Failed (runtimeError errCallDepth line) m -- MT-ERR-2050
-              else
-                let saved = mFrame m
-                    e' = e {envDepth = envDepth e + 1}
-                 in case unExec (fun vs) e' m of
-                      Done v m' -> Done v m' {mFrame = saved}
-                      Failed x m' -> Failed x m' {mFrame = saved}
+  Nothing -> \_ m -> malformed line m
+  Just (Function fun) -> \e m -> do
+    vs <- evalArgs argsM e m
+    bad <- hasFailed m
+    if bad
+      then pure (VBool False)
+      else
+        if envDepth e >= maxCallDepth
+          then raise m (runtimeError errCallDepth line) -- MT-ERR-2050
+          else do
+            saved <- readSTRef (mFrame m)
+            r <- fun vs e {envDepth = envDepth e + 1} m
+            writeSTRef (mFrame m) saved
+            pure r
+  where
+    argsM = map (meaning ctx) args
 
-compileStmt :: Ctx -> CStmt -> Exec Flow
+-- | The arguments left to right, stopping at the first error.
+evalArgs :: [Meaning s] -> Env -> Machine s -> ST s [Value]
+evalArgs [] _ _ = pure []
+evalArgs (Meaning f r : rest) e m = do
+  x <- r e m
+  bad <- if f then hasFailed m else pure False
+  if bad then pure [] else (x :) <$> evalArgs rest e m
+
+compileStmt :: Ctx -> CStmt -> Run s Flow
 compileStmt ctx = \case
-  SAssign line target e ->
+  SAssign line target x ->
     -- MT-STMT-2: the right side is evaluated before the index of the target
-    let eE = compileExpr ctx e
+    let xM = meaning ctx x
      in case target of
-          LTVar v -> step line >> eE >>= writeScalar v >> pure Next
+          LTVar v ->
+            let w = writeRun v 0
+             in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
           LTIndex iline v ix ->
-            let ixE = compileExpr ctx ix
-             in do
-                  step line
-                  x <- eE
-                  k <- ixE >>= elementIndex pol iline v
-                  writeElement v k x
-                  pure Next
+            let ixM = meaning ctx ix
+                index = elementIndex pol iline v
+                writers = V.generate (varElements v) (writeRun v)
+             in \e m -> stepThen line m $ withValue xM e m $ \val ->
+                  withValue ixM e m $ \iv -> do
+                    k <- index m iv
+                    if k < 0
+                      then pure Failing
+                      else case writers V.!? k of
+                        Just w -> Next <$ w val e m
+                        Nothing -> Failing <$ malformed iline m
   SCall line fid args ->
     -- MT-STMT-3: the result is discarded
-    let callE = compileCall ctx line fid args
-     in step line >> callE >> pure Next
+    let callM = Meaning True (compileCall ctx line fid args)
+     in \e m -> stepThen line m $ withValue callM e m $ \_ -> pure Next
   SIf arms elseB ->
     -- MT-STMT-6: the first true test selects its branch, else ELSE
-    let armsE = [(l, compileExpr ctx c, compileBlock ctx b) | (l, c, b) <- arms]
-        elseE = compileBlock ctx elseB
+    let armsR = [(l, meaning ctx c, compileBlock ctx b) | (l, c, b) <- arms]
+        elseR = compileBlock ctx elseB
         firstLine = case arms of
           (l, _, _) : _ -> l
           [] -> 0
-        go [] = elseE
-        go ((l, cE, bE) : rest) = do
-          c <- cE >>= asBool l
-          if c then bE else go rest
-     in step firstLine >> go armsE
+        go [] = elseR
+        go ((l, cM, bR) : rest) =
+          let restR = go rest
+           in \e m -> withValue cM e m $ \case
+                VBool True -> bR e m
+                VBool False -> restR e m
+                _ -> Failing <$ malformed l m
+        chain = go armsR
+     in \e m -> stepThen firstLine m (chain e m)
   SCase line sel arms elseB ->
     -- MT-STMT-8: the first arm with a matching value or inclusive range
-    let selE = compileExpr ctx sel
-        armsE = [(ranges, compileBlock ctx b) | (ranges, b) <- arms]
-        elseE = compileBlock ctx elseB
-        pick _ [] = elseE
-        pick k ((ranges, bE) : rest)
-          | any (\(lo, hi) -> lo <= k && k <= hi) ranges = bE
+    let selM = meaning ctx sel
+        armsR = [(ranges, compileBlock ctx b) | (ranges, b) <- arms]
+        elseR = compileBlock ctx elseB
+        pick _ [] = elseR
+        pick k ((ranges, bR) : rest)
+          | any (\(lo, hi) -> lo <= k && k <= hi) ranges = bR
           | otherwise = pick k rest
-     in do
-          step line
-          k <- selE >>= asInteger line
-          pick k armsE
+     in \e m -> stepThen line m $ withValue selM e m $ \v -> case valueToInteger v of
+          Just k -> pick k armsR e m
+          Nothing -> Failing <$ malformed line m
   SWhile line c body ->
     -- MT-STMT-13: the test before each iteration
-    let cE = compileExpr ctx c
-        bodyE = compileBlock ctx body
-        loop = do
-          step line
-          t <- cE >>= asBool line
-          if not t
-            then pure Next
-            else
-              bodyE >>= \case
-                Next -> loop
-                Exiting -> pure Next
-                Returning -> pure Returning
-     in step line >> loop
+    let cM = meaning ctx c
+        bodyR = compileBlock ctx body
+        loop e m = stepThen line m $ withValue cM e m $ \case
+          VBool False -> pure Next
+          VBool True ->
+            bodyR e m >>= \case
+              Next -> loop e m
+              Exiting -> pure Next
+              other -> pure other
+          _ -> Failing <$ malformed line m
+     in \e m -> stepThen line m (loop e m)
   SRepeat body uline c ->
     -- MT-STMT-14: the body first, the loop ends when the test is TRUE
-    let cE = compileExpr ctx c
-        bodyE = compileBlock ctx body
-        loop =
-          bodyE >>= \case
+    let cM = meaning ctx c
+        bodyR = compileBlock ctx body
+        loop e m =
+          bodyR e m >>= \case
             Exiting -> pure Next
-            Returning -> pure Returning
-            Next -> do
-              step uline
-              t <- cE >>= asBool uline
-              if t then pure Next else loop
-     in step uline >> loop
+            Next -> stepThen uline m $ withValue cM e m $ \case
+              VBool True -> pure Next
+              VBool False -> loop e m
+              _ -> Failing <$ malformed uline m
+            other -> pure other
+     in \e m -> stepThen uline m (loop e m)
   SFor line cv start end by body -> compileFor ctx line cv start end by body
-  SExit line -> step line >> pure Exiting -- MT-STMT-12
-  SReturn line -> step line >> pure Returning -- MT-STMT-4, MT-STMT-5
+  SExit line -> \_ m -> stepThen line m (pure Exiting) -- MT-STMT-12
+  SReturn line -> \_ m -> stepThen line m (pure Returning) -- MT-STMT-4, MT-STMT-5
   where
     pol = cxPolicies ctx
-    step = tick (pStepBudget pol)
+    stepThen line m k = do
+      ok <- tick (pStepBudget pol) line m
+      if ok then k else pure Failing
 
 -- | FOR (MT-STMT-15..21, decisions A13, A14). The control variable takes the
 -- start value; end and step are evaluated once after it (@for-bounds =
@@ -449,59 +708,78 @@ compileStmt ctx = \case
 --
 -- A step of 0 never passes the end: the loop runs until the budget (2030)
 -- unless start > end.
-compileFor :: Ctx -> Line -> Var -> CExpr -> CExpr -> CExpr -> [CStmt] -> Exec Flow
-compileFor ctx line cv start end by body = do
-  step
-  readStart >>= writeScalar cv
-  case pForBounds pol of
-    ForOnce -> do
-      e <- readEnd
-      s <- readStep
-      loop (pure (e, s))
-    ForEveryIteration -> loop ((,) <$> readEnd <*> readStep)
+compileFor :: Ctx -> Line -> Var -> CExpr -> CExpr -> CExpr -> [CStmt] -> Run s Flow
+compileFor ctx line cv start end by body = \e m ->
+  step m $ withValue startM e m $ \s0 -> do
+    writeCv s0 e m
+    case pForBounds pol of
+      ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st -> loopOnce en st e m
+      ForEveryIteration -> loopEvery e m
   where
     pol = cxPolicies ctx
-    step = tick (pStepBudget pol) line
-    readStart = compileExpr ctx start
-    readEnd = compileExpr ctx end
-    readStep = compileExpr ctx by
-    bodyE = compileBlock ctx body
+    step m k = do
+      ok <- tick (pStepBudget pol) line m
+      if ok then k else pure Failing
+    startM = meaning ctx start
+    endM = meaning ctx end
+    stepM = meaning ctx by
+    bodyR = compileBlock ctx body
+    readCv = readRun cv 0
+    writeCv = writeRun cv 0
     t = varBasicType cv
-    loop bounds = go
+    zero = defaultValue t
+    intRangeInt = (\(lo, hi) -> (fromInteger lo, fromInteger hi) :: (Int, Int)) <$> intRange t
+    loopOnce en st e m = go
       where
-        go = do
-          step
-          (e, s) <- bounds
-          c <- readScalar cv
-          if continues s c e
+        go = step m $ do
+          c <- readCv e m
+          if continues st c en
             then
-              bodyE >>= \case
+              bodyR e m >>= \case
+                Next -> increment st e m >>= \case
+                  Next -> go
+                  Exiting -> pure Next
+                  other -> pure other
                 Exiting -> pure Next
-                Returning -> pure Returning
-                Next -> increment s >>= \more -> if more then go else pure Next
+                other -> pure other
             else pure Next
-    continues s c e
-      | numCompare s (defaultValue t) == LT = numCompare c e /= LT
-      | otherwise = numCompare c e /= GT
-    increment s = do
-      c <- readScalar cv
+    loopEvery e m = go
+      where
+        go = step m $ withValue endM e m $ \en -> withValue stepM e m $ \st -> do
+          c <- readCv e m
+          if continues st c en
+            then
+              bodyR e m >>= \case
+                Next -> increment st e m >>= \case
+                  Next -> go
+                  Exiting -> pure Next
+                  other -> pure other
+                Exiting -> pure Next
+                other -> pure other
+            else pure Next
+    continues s c en
+      | numCompare s zero == LT = numCompare c en /= LT
+      | otherwise = numCompare c en /= GT
+    -- Next: go on testing; Exiting: the loop ends; Failing: an error
+    increment s e m = do
+      c <- readCv e m
       case pForAtTypeMax pol of
-        StopAtEnd -> case (valueToInteger c, valueToInteger s, intRange t) of
+        StopAtEnd -> case (valueToInt c, valueToInt s, intRangeInt) of
           (Just ci, Just si, Just (lo, hi))
-            | ci + si < lo || ci + si > hi -> pure False
-            | otherwise -> writeScalar cv (integerToValue t (ci + si)) >> pure True
+            | ci + si < lo || ci + si > hi -> pure Exiting
+            | otherwise -> Next <$ writeCv (intToValue t (ci + si)) e m
           _ -> case (c, s) of
-            (VReal x, VReal y) -> writeScalar cv (VReal (x + y)) >> pure True
-            _ -> failWith errMalformed line
+            (VReal x, VReal y) -> Next <$ writeCv (VReal (x + y)) e m
+            _ -> Failing <$ malformed line m
         FollowOverflowPolicy -> do
-          n <- outcome line (O.arith pol OpAdd c s)
-          writeScalar cv n
-          pure True
+          n <- outcome line m (O.arith pol OpAdd c s)
+          bad <- hasFailed m
+          if bad then pure Failing else Next <$ writeCv n e m
 
 -- | Numeric order of two values of one type (integers and bit strings by
 -- their number, REAL by IEEE order with NaN treated as equal).
 numCompare :: Value -> Value -> Ordering
-numCompare a b = case (valueToInteger a, valueToInteger b, a, b) of
+numCompare a b = case (valueToInt a, valueToInt b, a, b) of
   (Just x, Just y, _, _) -> compare x y
   (_, _, VReal x, VReal y)
     | x < y -> LT

@@ -40,12 +40,14 @@ module Stref.Execution
   , writeDiagnostics
   ) where
 
+import Control.Monad.ST (runST)
 import Data.Foldable (foldl')
 import qualified Data.IntMap.Strict as IM
 import Data.IntMap.Strict (IntMap)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
+import qualified Data.Vector as V
 import Stref.Checked
 import Stref.Diagnostics
 import Stref.Eval
@@ -110,12 +112,24 @@ runCompiled pol cfg cm compiled ci st
       (st, CallResult (False, False, False) Nothing [] 0 False False)
   | otherwise = case checks of
       Left err ->
-        let m = machine0 {mOutputs = (False, False, False)}
-         in finish (psRetained st) (Left err) m
-      Right sources -> case runExec (prepare sources >> cmBody compiled) env machine0 of
-        Done _ m -> finish (keep m) (Right ()) (copyBack sources m)
-        Failed err m -> finish (keep m) (Left err) m
+        let sn =
+              Snapshot
+                { snData = V.imap (\k d -> IM.findWithDefault d k retainedData) (cmDataDefaults compiled)
+                , snMemory = psMemory st
+                , snOutputs = (False, False, False)
+                , snOverflow = False
+                , snSteps = 0
+                }
+         in finish (psRetained st) (Left err) sn
+      Right sources -> runST (runBody sources)
   where
+    runBody sources = do
+      m <- newMachine compiled retainedData (psMemory st) (True, False, False) -- MT-SIG-4, A5
+      r <- unExec (prepare sources >> cmBody compiled) env m
+      sn <- snapshot m
+      pure $ case r of
+        Done _ -> finish (keep sn) (Right ()) (copyBack sources sn)
+        Failed err -> finish (keep sn) (Left err) sn
     (input1, _, _) = ciInputs ci
     env = Env (ciInputs ci) 0
     prog = cmProgram cm
@@ -125,15 +139,6 @@ runCompiled pol cfg cm compiled ci st
     retainedData = case (pLifetime pol, psRetained st) of
       (Retained, Just d) -> d
       _ -> IM.empty
-    machine0 =
-      Machine
-        { mData = retainedData
-        , mFrame = IM.empty
-        , mMemory = psMemory st
-        , mOutputs = (True, False, False) -- MT-SIG-4
-        , mOverflow = False -- A5
-        , mSteps = 0
-        }
     lineBefore = pErrorLineBeforeStart pol -- A2
     checks = do
       checkMappedOperands lineBefore cfg (cmMapped cm)
@@ -146,7 +151,7 @@ runCompiled pol cfg cm compiled ci st
           mapM_ initVar (cmInits cm)
         else pure ()
       -- VAR_INPUT and VAR_IN_OUT: copied in on every call (MT-PARAM-3, MT-PARAM-5)
-      memory <- machineMemory
+      memory <- getMemory
       mapM_ (copyIn memory) (zip (cpInputs prog ++ cpInOuts prog) sources)
     copyIn memory (v, src) =
       mapM_ (\k -> writeElement v k (sourceRead memory src (varBasicType v) k)) [0 .. varElements v - 1]
@@ -162,30 +167,33 @@ runCompiled pol cfg cm compiled ci st
               (\mm k -> sourceWrite src k (readNow m v k) mm)
               mem
               [0 .. varElements v - 1]
-       in m {mMemory = foldl' writeBack (mMemory m) pairs}
-    readNow m v k = case runExec (readElement v k) env m of
-      Done x _ -> x
-      Failed _ _ -> defaultValue (varBasicType v)
-    keep m = case pLifetime pol of
-      Retained -> Just (mData m)
+       in m {snMemory = foldl' writeBack (snMemory m) pairs}
+    readNow m v k = snapshotElement env m v k
+    keep sn = case pLifetime pol of
+      Retained -> Just (IM.fromDistinctAscList (zip [0 ..] (V.toList (snData sn))))
       PerCall -> Nothing
-    finish retained result m =
+    finish retained result sn =
       let (band, err, outs) = case result of
-            Right () -> (noErrorBand, Nothing, mOutputs m)
-            Left e -> (errorBand e, Just e, clearOutput1 (mOutputs m))
-          mem' = writeDiagnostics cfg band (mMemory m)
-          m' = m {mMemory = mem', mOutputs = outs}
+            Right () -> (noErrorBand, Nothing, snOutputs sn)
+            Left e -> (errorBand e, Just e, clearOutput1 (snOutputs sn))
+          mem' = writeDiagnostics cfg band (snMemory sn)
+          sn' = sn {snMemory = mem', snOutputs = outs}
           st' =
             PlcState
               { psMemory = mem'
               , psRetained = retained
               }
-       in (st', CallResult outs err (namedValues env m' cm) (mSteps m') True (mOverflow m'))
+          vars = namedValues env sn' cm
+       in -- the observed values are taken now, so that a long run of calls
+          -- does not keep every call's machine alive
+          forceVars vars `seq` (st', CallResult outs err vars (snSteps sn') True (snOverflow sn'))
     clearOutput1 (_, b, c) = (False, b, c)
-    machineMemory = Exec $ \_ m -> Done (mMemory m) m
+
+forceVars :: [(Text, Value)] -> ()
+forceVars = foldr (\(_, v) rest -> v `seq` rest) ()
 
 -- | The values of the observable variables (arrays element by element).
-namedValues :: Env -> Machine -> CModule -> [(Text, Value)]
+namedValues :: Env -> Snapshot -> CModule -> [(Text, Value)]
 namedValues env m cm = concatMap one (cmNamed cm)
   where
     one (name, v) = case varType v of
@@ -194,9 +202,7 @@ namedValues env m cm = concatMap one (cmNamed cm)
         [ (name <> "[" <> T.pack (show (lo + toInteger k)) <> "]", get v k)
         | k <- [0 .. varElements v - 1]
         ]
-    get v k = case runExec (readElement v k) env m of
-      Done x _ -> x
-      Failed _ _ -> defaultValue (varBasicType v)
+    get v k = snapshotElement env m v k
 
 -- | The five diagnostic operands (MT-DIAG-2).
 diagnosticBand :: PlcConfig -> [Operand]
