@@ -1,11 +1,12 @@
 -- | The stref command line. Each command lives in its own module under Cmd/
 -- and contributes one optparse-applicative command; exit codes: 0 success,
 -- 1 a negative answer (syntax error, rejected program, failed cases),
--- 2 a usage error.
+-- 2 a usage error, 3 an internal error (see 'lastDefence').
 module Main (main) where
 
 import Options.Applicative
 import System.Environment (getArgs, getProgName)
+import Control.Exception (AsyncException (..), SomeException, fromException, try)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import qualified Stref
@@ -14,13 +15,16 @@ import qualified Cmd.Conformance
 import qualified Cmd.Coverage
 import qualified Cmd.Engine
 import qualified Cmd.Eval
+import qualified Cmd.Explore
+import qualified Cmd.Fuzz
 import qualified Cmd.Parse
 import qualified Cmd.Run
 
 commands :: Mod CommandFields (IO ExitCode)
 commands =
   mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
-    <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command
+    <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command <> Cmd.Explore.command
+    <> Cmd.Fuzz.command
 
 main :: IO ()
 main = do
@@ -32,7 +36,7 @@ main = do
           (fullDesc <> progDesc "Executable reference semantics of IEC 61131-3 Structured Text" <> header "stref - ST reference interpreter and conformance runner")
       versionOption = infoOption ("stref " ++ Stref.version) (long "version" <> help "Print the version")
   case execParserPure (prefs (showHelpOnEmpty <> showHelpOnError)) opts args of
-    Success act -> act >>= exitWith
+    Success act -> try act >>= either lastDefence exitWith
     Failure f -> do
       let (msg, code) = renderFailure f prog
       case code of
@@ -41,3 +45,17 @@ main = do
     CompletionInvoked c -> do
       msg <- execCompletion c prog
       putStr msg >> exitSuccess
+
+-- | The library never throws on any input; this is the last line of defence
+-- should it ever happen (or should the machine run out of stack or memory):
+-- a clear message and exit code 3 instead of a bare Haskell exception.
+lastDefence :: SomeException -> IO ()
+lastDefence e
+  | Just (code :: ExitCode) <- fromException e = exitWith code
+  | Just StackOverflow <- fromException e =
+      failWith "the input is too large or too deeply nested for the stack; raise the limit with +RTS -K<size> -RTS (e.g. -K2g)"
+  | Just HeapOverflow <- fromException e = failWith "out of memory"
+  | Just UserInterrupt <- fromException e = exitWith (ExitFailure 130)
+  | otherwise = failWith ("internal error: " <> show e <> "; please report it with the input that caused it")
+  where
+    failWith msg = hPutStrLn stderr ("stref: " <> msg) >> exitWith (ExitFailure 3)

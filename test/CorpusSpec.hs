@@ -23,5 +23,7 @@ spec = do
     caseExample entry = it (T.unpack (entryId entry)) $ case entry of
       Invalid _ _ msg -> expectationFailure (T.unpack msg)
       Loaded c -> do
-        outcome <- runOne defaultRunOptions c
+        -- the step budget (2030) bounds every run; the timeout is only a
+        -- safety net, generous so that an unoptimised build passes too
+        outcome <- runOne defaultRunOptions {roTimeout = 300} c
         outcome `shouldBe` Pass

@@ -11,11 +11,10 @@ import qualified Data.ByteString as BS
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Text (Text)
 import qualified Data.Text as T
-import qualified Data.Text.Encoding as TE
-import qualified Data.Text.Encoding.Error as TE
 import qualified Data.Text.IO as TIO
 import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
+import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Check (checkModule)
 import Stref.Checked (ModuleKind (..))
 import Stref.Policy (mastertoolXE, setPolicy)
@@ -68,9 +67,12 @@ run opts =
       contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
       case contents of
         Left e -> usage ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
-        Right bytes -> do
-          let source = TE.decodeUtf8With TE.lenientDecode bytes
-              outcome = case parseModule policies file source of
+        Right bytes -> case decodeSource bytes of
+         Left bad -> do
+          TIO.hPutStr stderr (renderEncodingError file bad)
+          pure (ExitFailure 1)
+         Right source -> do
+          let outcome = case parseModule policies file source of
                 Left err -> Left [err]
                 Right m -> () <$ checkModule policies (optKind opts) m
           case outcome of

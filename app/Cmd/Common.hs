@@ -20,12 +20,11 @@ import Data.Char (isDigit, toUpper)
 import Data.Scientific (fromFloatDigits)
 import Data.Text (Text)
 import qualified Data.Text as T
-import qualified Data.Text.Encoding as TE
-import qualified Data.Text.Encoding.Error as TE
 import Data.Word (Word32)
 import Numeric (readHex)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
+import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Diagnostics
 import Stref.Operands
 import Stref.Policy
@@ -46,7 +45,7 @@ readSource file = do
   contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
   pure $ case contents of
     Left e -> Left ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
-    Right bytes -> Right (TE.decodeUtf8With TE.lenientDecode bytes)
+    Right bytes -> either (Left . T.stripEnd . renderEncodingError file) Right (decodeSource bytes)
 
 usageError :: String -> Text -> IO ExitCode
 usageError cmd msg = do

@@ -5,8 +5,6 @@ module Cmd.Parse (command) where
 import Control.Exception (IOException, try)
 import Control.Monad (foldM)
 import qualified Data.Text as T
-import qualified Data.Text.Encoding as TE
-import qualified Data.Text.Encoding.Error as TE
 import qualified Data.ByteString as BS
 import qualified Data.Text.IO as TIO
 import Options.Applicative hiding (command)
@@ -14,6 +12,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import System.IO.Error (ioeGetErrorString, isDoesNotExistError)
+import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Policy (mastertoolXE, setPolicy)
 import Stref.Syntax (Module, Pos)
 import Stref.Syntax.Parser (parseModule)
@@ -51,10 +50,11 @@ run (Options file ast policyArgs) =
           | isDoesNotExistError e -> usage ("cannot read " <> T.pack file <> ": there is no such file")
           | otherwise -> usage ("cannot read " <> T.pack file <> ": " <> T.pack (ioeGetErrorString e))
         Right bytes -> do
-          -- the manuals' sources are Latin-1 or UTF-8; bad bytes become U+FFFD,
-          -- which the lexer reports as an invalid character outside comments
-          let source = TE.decodeUtf8With TE.lenientDecode bytes
-          case parseModule policies file source of
+          case decodeSource bytes of
+           Left bad -> do
+            TIO.hPutStr stderr (renderEncodingError file bad)
+            pure (ExitFailure 1)
+           Right source -> case parseModule policies file source of
             Left err -> do
               TIO.hPutStr stderr (renderError file source err)
               pure (ExitFailure 1)

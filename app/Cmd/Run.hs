@@ -54,7 +54,7 @@ options :: Parser Options
 options =
   Options
     <$> strArgument (metavar "FILE" <> help "The ST module")
-    <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "Number of module calls (scan cycles)")
+    <*> option callCount (long "calls" <> metavar "N" <> value 1 <> showDefault <> help ("Number of module calls (scan cycles), at most " <> show maxCalls))
     <*> strOption (long "module" <> metavar "P|F" <> value "P" <> showDefault <> help "Procedure module (CHP) or function module (CHF)")
     <*> optional (strOption (long "plc" <> metavar "PLC.yaml" <> help "The controller: declare, diagnostics, init, chf (as in a corpus case's plc key)"))
     <*> many (strOption (long "set" <> metavar "OPERAND=VALUE" <> help "Write an operand before the first call, e.g. %M0010=5, %M0006.6=TRUE, %F0002=2.5"))
@@ -92,7 +92,7 @@ run o = do
       "text" -> Right False
       "json" -> Right True
       other -> Left ("--format takes text or json, not '" <> T.pack other <> "'")
-    if optCalls o < 0 then Left "--calls takes a number >= 0" else Right ()
+    if optCalls o < 0 || optCalls o > maxCalls then Left ("--calls takes a number from 0 to " <> T.pack (show maxCalls)) else Right ()
     pure (pol, kind, sets, ins, outs, inputs, fmtJson)
   case setup of
     Left msg -> usageError "run" msg
@@ -257,3 +257,16 @@ settingFromJson = \case
       ("", _) -> []
       (ds, r) -> [(foldl (\acc d -> acc * 16 + toInteger (hexDigit d)) 0 ds, r)]
     hexDigit d = length (takeWhile (/= d) "0123456789abcdef")
+
+-- | The results of every call are kept until the end (they are printed
+-- together), so their number is bounded (docs/robustness.md).
+maxCalls :: Int
+maxCalls = 1000000
+
+-- | A call count, read as an unbounded integer so that a huge number is
+-- refused instead of wrapping around.
+callCount :: ReadM Int
+callCount = eitherReader $ \s -> case reads s :: [(Integer, String)] of
+  [(n, "")]
+    | n >= 0 && n <= toInteger maxCalls -> Right (fromInteger n)
+  _ -> Left ("--calls takes a number from 0 to " <> show maxCalls <> ", not " <> s)

@@ -10,8 +10,9 @@ module Stref.Check
   , dataAreaLimit
   ) where
 
-import Control.Monad (foldM, forM_, unless, when)
+import Control.Monad (foldM, forM_, unless, void, when)
 import Control.Monad.Reader (asks, local)
+import Data.Graph (flattenSCC, stronglyConnComp)
 import qualified Data.IntMap.Strict as IM
 import Data.List (sortOn)
 import qualified Data.Map.Strict as M
@@ -49,14 +50,17 @@ recursionErrors calls =
   [ verificationError "recursive-call" pos "this call closes a cycle of function calls; recursion is not allowed"
   | (caller, callee, pos) <- calls
   , caller /= callee
-  , caller `elem` reachable [callee] []
+  , sameComponent caller callee
   ]
   where
-    edges = M.fromListWith (++) [(a, [b]) | (a, b, _) <- calls]
-    reachable [] seen = seen
-    reachable (x : xs) seen
-      | x `elem` seen = reachable xs seen
-      | otherwise = reachable (M.findWithDefault [] x edges ++ xs) (x : seen)
+    -- the call caller -> callee closes a cycle exactly when the caller is
+    -- reachable from the callee: both are in one strongly connected
+    -- component (linear in the calls, also for long call chains)
+    edges = IM.fromListWith (++) [(a, [b]) | (a, b, _) <- calls]
+    functions = IM.keys (IM.union (void edges) (IM.fromList [(b, ()) | (_, b, _) <- calls]))
+    components = stronglyConnComp [(f, f, IM.findWithDefault [] f edges) | f <- functions]
+    componentOf = IM.fromList [(f, i) | (i, c) <- zip [0 :: Int ..] components, f <- flattenSCC c]
+    sameComponent a b = IM.lookup a componentOf == IM.lookup b componentOf
 
 -- | Where a block of declarations stands.
 data Where = WGlobal | WFunction Text | WProgram Text

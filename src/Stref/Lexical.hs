@@ -407,8 +407,15 @@ digitIn base c = case base of
   _ -> isDigit c
 
 readDigits :: Integer -> Text -> Integer
-readDigits base = T.foldl' step 0
+readDigits base = go . T.filter (/= '_')
   where
+    -- halves, so that a literal of a million digits is read in about
+    -- n log n time instead of n^2 (one multiplication per digit)
+    go t
+      | T.length t <= 64 = T.foldl' step 0 t
+      | otherwise =
+          let (hi, lo) = T.splitAt (T.length t `div` 2) t
+           in go hi * base ^ T.length lo + go lo
     step acc c
       | c == '_' = acc
       | isDigit c = acc * base + toInteger (ord c - ord '0')

@@ -19,6 +19,7 @@ module Stref.Check.Expr
 import Control.Monad (zipWithM)
 import Control.Monad.Reader (asks)
 import Data.Either (isRight)
+import qualified Data.Map.Lazy as M
 import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.Check.Monad
@@ -302,7 +303,12 @@ binary pos op x y = case (x, y) of
   (Fixed a, Open f) -> withFixed (cexprType a) (\lit -> buildBinary pos op (cexprType a) a lit) f
   (Open f, Fixed b) -> withFixed (cexprType b) (\lit -> buildBinary pos op (cexprType b) lit b) f
   (Open f, Open g) -> do
-    let at t = both (flexAt f t) (flexAt g t) >>= uncurry (buildBinary pos op t)
+    let atFresh t = both (flexAt f t) (flexAt g t) >>= uncurry (buildBinary pos op t)
+        -- one lazy result per type, shared: choosing the type below tries
+        -- several, and each try would otherwise redo the whole left operand
+        -- (quadratic on a long chain of literals such as 1 + 2 + ... + n)
+        table = M.fromList [(t, atFresh t) | t <- [minBound .. maxBound]]
+        at t = M.findWithDefault (atFresh t) t table
         joined = if literalRank (flexDefault f) >= literalRank (flexDefault g) then flexDefault f else flexDefault g
         candidates
           | joined == REAL = [REAL]

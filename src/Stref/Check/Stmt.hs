@@ -7,8 +7,9 @@ module Stref.Check.Stmt
   , missingReturn
   ) where
 
-import Control.Monad (foldM, forM, unless, when)
+import Control.Monad (foldM, forM, forM_, when)
 import Control.Monad.Reader (asks)
+import qualified Data.Map.Strict as M
 import Data.Maybe (catMaybes, isJust)
 import qualified Data.Text as T
 import Stref.Check.Const
@@ -147,7 +148,7 @@ checkCase pos sel arms els = do
             report "integer-expression-expected" (exprAnn sel) ("the CASE selector must be a USINT, INT or DINT expression, not " <> typeName (typedType typed))
             pure Nothing
   let selType = cexprType <$> sel'
-  (_, arms') <- foldM (checkArm selType) ([], []) arms
+  (_, arms') <- foldM (checkArm selType) (M.empty, []) arms
   els' <- maybe (pure []) checkStmts els
   pure (SCase (line pos) <$> sel' <*> pure (reverse arms') <*> pure els')
   where
@@ -172,10 +173,9 @@ checkCase pos sel arms els = do
         Nothing -> pure (seen, acc)
         Just (a, b) -> do
           -- MT-STMT-10: the first value already used by another label
-          let clashes = [max a c | (c, d) <- seen, c <= b, a <= d]
-          unless (null clashes) $
-            report "case-value-duplicated" (labelPos label) ("the value " <> tshow (minimum clashes) <> " is already used by another case of this CASE")
-          pure ((a, b) : seen, (a, b) : acc)
+          forM_ (firstUsed (a, b) seen) $ \v ->
+            report "case-value-duplicated" (labelPos label) ("the value " <> tshow v <> " is already used by another case of this CASE")
+          pure (insertRange (a, b) seen, (a, b) : acc)
     labelPos = \case
       LabelValue e -> exprAnn e
       LabelRange e _ -> exprAnn e
@@ -186,6 +186,29 @@ checkCase pos sel arms els = do
               report "value-out-of-limits" (exprAnn e) ("the case value " <> tshow v <> " is out of the limits of the selector's type " <> typeName t)
               pure Nothing
         r -> pure r
+
+-- | The values used by earlier labels, as disjoint ranges (lower bound to
+-- upper bound), so that a CASE with many labels is checked in O(n log n).
+type UsedValues = M.Map Integer Integer
+
+-- | The smallest value of @a..b@ already used.
+firstUsed :: (Integer, Integer) -> UsedValues -> Maybe Integer
+firstUsed (a, b) used = case M.lookupLE a used of
+  Just (_, d) | d >= a -> Just a
+  _ -> case M.lookupGT a used of
+    Just (c, _) | c <= b -> Just c
+    _ -> Nothing
+
+insertRange :: (Integer, Integer) -> UsedValues -> UsedValues
+insertRange (a, b) used0 =
+  let (a1, b1, used1) = case M.lookupLE a used0 of
+        Just (c, d) | d >= a -> (c, max b d, M.delete c used0)
+        _ -> (a, b, used0)
+      absorb hi used = case M.lookupGE a1 used of
+        Just (c, d) | c <= hi -> absorb (max hi d) (M.delete c used)
+        _ -> (hi, used)
+      (b2, used2) = absorb b1 used1
+   in M.insert a1 b2 used2
 
 checkFor :: Pos -> Pos -> Ident -> Expr Pos -> Expr Pos -> Maybe (Expr Pos) -> [Stmt Pos] -> Check (Maybe CStmt)
 checkFor pos vpos name start end step body = do

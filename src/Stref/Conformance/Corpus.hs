@@ -19,10 +19,10 @@ import qualified Data.Map.Strict as M
 import qualified Data.Set as S
 import Data.Text (Text)
 import qualified Data.Text as T
-import qualified Data.Text.Encoding as TE
 import qualified Data.ByteString as BS
 import System.Directory
 import System.FilePath
+import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Conformance.Case
 import Stref.Conformance.Rules
 
@@ -121,8 +121,8 @@ readUtf8 f = do
   r <- try (BS.readFile f) :: IO (Either IOException BS.ByteString)
   pure $ case r of
     Left e -> Left (T.pack f <> ":1: cannot read: " <> T.pack (show e))
-    Right bs -> case TE.decodeUtf8' bs of
-      Left _ -> Left (T.pack f <> ":1: the file is not valid UTF-8")
+    Right bs -> case decodeSource bs of
+      Left bad -> Left (T.stripEnd (renderEncodingError f bad))
       Right t -> Right (T.replace "\r\n" "\n" t)
 
 -- | A known-failures file: one case id per line; @#@ comments and blank

@@ -15,6 +15,8 @@ import Data.Char (intToDigit, toUpper)
 import Data.Ratio (denominator, numerator)
 import Data.Text (Text)
 import qualified Data.Text as T
+import qualified Data.Text.Lazy as TL
+import qualified Data.Text.Lazy.Builder as B
 import Numeric (showIntAtBase)
 import Stref.Syntax
 import Stref.Types (typeName)
@@ -167,24 +169,31 @@ unaryLevel = 8
 atomLevel = 9
 
 prettyExpr :: Expr a -> Text
-prettyExpr = go 0
+prettyExpr = TL.toStrict . B.toLazyText . go 0
   where
-    -- go p e: print e where a level below p needs parentheses
-    go :: Int -> Expr a -> Text
+    -- go p e: print e where a level below p needs parentheses. A builder,
+    -- not Text: appending to a long left operand must not copy it again at
+    -- every level of a long chain (1 + 1 + ... + 1 stays linear).
+    go :: Int -> Expr a -> B.Builder
     go p e = let (lvl, t) = render e in if lvl < p then "(" <> t <> ")" else t
-    render :: Expr a -> (Int, Text)
+    render :: Expr a -> (Int, B.Builder)
     render = \case
-      ELit _ l -> (if negativeLiteral l then unaryLevel else atomLevel, prettyLiteral l)
-      EVar _ v -> (atomLevel, identText v)
-      EIndex _ v i -> (atomLevel, identText v <> "[" <> go 0 i <> "]")
-      ECall _ f args -> (atomLevel, call f args)
-      EUnary _ Neg x -> (unaryLevel, "-" <> spaceIfMinus (go unaryLevel x))
+      ELit _ l -> (if negativeLiteral l then unaryLevel else atomLevel, B.fromText (prettyLiteral l))
+      EVar _ v -> (atomLevel, B.fromText (identText v))
+      EIndex _ v i -> (atomLevel, B.fromText (identText v) <> "[" <> go 0 i <> "]")
+      ECall _ f args -> (atomLevel, B.fromText (call f args))
+      EUnary _ Neg x -> (unaryLevel, "-" <> (if startsWithMinus x then " " else "") <> go unaryLevel x)
       EUnary _ Not x -> (unaryLevel, "NOT " <> go unaryLevel x)
       -- left associative: the right operand of the same level needs parentheses
       EBinary _ op l r ->
         let q = binLevel op
-         in (q, go q l <> " " <> binOpSymbol op <> " " <> go (q + 1) r)
-    spaceIfMinus t = if "-" `T.isPrefixOf` t then " " <> t else t
+         in (q, go q l <> " " <> B.fromText (binOpSymbol op) <> " " <> go (q + 1) r)
+    -- what 'go unaryLevel' prints with a leading '-': everything below the
+    -- unary level is parenthesised
+    startsWithMinus = \case
+      ELit _ l -> negativeLiteral l
+      EUnary _ Neg _ -> True
+      _ -> False
 
 negativeLiteral :: Literal -> Bool
 negativeLiteral = \case
