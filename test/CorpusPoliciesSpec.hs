@@ -1,0 +1,101 @@
+-- | The corpus is complete for every policy alternative: a case whose result
+-- depends on an implementation-defined choice says so with an @expect-if@
+-- entry for each alternative (conformance/README.md). Two checks:
+--
+-- * for every alternative, the in-process reference running it (and declaring
+--   it) passes every case;
+-- * an external engine that wraps on overflow, judged as if it saturated,
+--   fails exactly the cases whose expectation under @overflow = wrap@ differs
+--   from their MasterTool expectation, and no other.
+--
+-- The cases expected to end in the step budget's error 2030 are left out of
+-- both sweeps: they run 10^7 steps each, far the slowest of the corpus, and
+-- CorpusSpec runs them under the preset already.
+module CorpusPoliciesSpec (spec) where
+
+import Conformance.Paths (strefBinary)
+import qualified Data.Set as S
+import Data.Text (Text)
+import qualified Data.Text as T
+import Stref.Conformance.Case
+import Stref.Conformance.Corpus
+import Stref.Conformance.Runner
+import Stref.Policy (Policies, mastertoolXE, setPolicy)
+import Test.Hspec
+
+-- | Every alternative that differs from the MasterTool XE preset.
+alternatives :: [(Text, Text)]
+alternatives =
+  [ ("overflow", "wrap")
+  , ("overflow", "trap")
+  , ("arith-width", "promote-32")
+  , ("div-zero", "zero")
+  , ("div-zero", "trap")
+  , ("real-div-zero", "ieee")
+  , ("real-overflow", "ieee")
+  , ("mod-zero", "error")
+  , ("mod-sign", "euclidean")
+  , ("real-to-int", "round-even-saturate")
+  , ("real-to-int", "round-even-wrap")
+  , ("narrow-int", "saturate")
+  , ("implicit-conversions", "iec-widening")
+  , ("implicit-conversions", "codesys")
+  , ("name-resolution", "local-wins")
+  , ("for-bounds", "every-iteration")
+  , ("for-at-type-max", "follow-overflow-policy")
+  , ("short-circuit", "short-circuit")
+  , ("lifetime", "retained")
+  , ("index-out-of-range", "clamp")
+  , ("index-out-of-range", "trap")
+  , ("nested-comments", "yes")
+  , ("elsif-keyword", "ELSIF")
+  , ("error-line-before-start", "-1")
+  , ("identifier-length", "unlimited")
+  ]
+
+policiesWith :: (Text, Text) -> Policies
+policiesWith (k, v) = either (error . T.unpack) id (setPolicy k v mastertoolXE)
+
+-- | Does the case, under these policies, expect the step budget's error?
+stepBudgetCase :: Policies -> Case -> Bool
+stepBudgetCase p c = case exError (effectiveExpect p c) of
+  Just (ErrCode 2030 _ _) -> True
+  _ -> False
+
+-- | The loaded cases, without those that run into the step budget under
+-- either policy record.
+quickCases :: [Policies] -> Corpus -> Corpus
+quickCases ps corpus = corpus {corpusEntries = filter keep (corpusEntries corpus)}
+  where
+    keep (Loaded c) = not (any (`stepBudgetCase` c) ps)
+    keep (Invalid {}) = True
+
+failures :: [CaseResult] -> [(Text, Outcome)]
+failures rs = [(resId r, resOutcome r) | r <- rs, resOutcome r /= Pass]
+
+spec :: Spec
+spec = do
+  corpus <- runIO (loadCorpus ["conformance"])
+  describe "the corpus under every policy alternative (reference, declared = run)" $
+    mapM_ (sweep corpus) alternatives
+  describe "an engine that wraps on overflow, judged under the preset" $
+    it "fails exactly the cases whose overflow=wrap expectation differs from expect" $ do
+      bin <- strefBinary
+      let wrap = policiesWith ("overflow", "wrap")
+          quick = quickCases [mastertoolXE, wrap] corpus
+          differs c = effectiveExpect wrap c /= effectiveExpect mastertoolXE c
+          expected = S.fromList [caseId c | Loaded c <- corpusEntries quick, differs c]
+          opts = defaultRunOptions {roEngine = External (bin ++ " engine --policy overflow=wrap"), roJobs = 2, roTimeout = 60}
+      results <- runCorpus opts quick
+      S.size expected `shouldSatisfy` (>= 10)
+      [(i, o) | (i, o) <- failures results, not (isFail o)] `shouldBe` []
+      S.fromList (map fst (failures results)) `shouldBe` expected
+  where
+    isFail = \case
+      Fail _ -> True
+      _ -> False
+    sweep corpus alt@(k, v) = it (T.unpack (k <> "=" <> v)) $ do
+      let p = policiesWith alt
+          opts = defaultRunOptions {roEngine = Reference [alt], roPolicies = p, roJobs = 2, roTimeout = 60}
+      results <- runCorpus opts (quickCases [p] corpus)
+      failures results `shouldBe` []
