@@ -8,7 +8,7 @@ import qualified Data.Map.Strict as M
 import qualified Data.Set as S
 import Data.Text (Text)
 import qualified Data.Text as T
-import GHC.Clock (getMonotonicTime)
+import GHC.Clock (getMonotonicTime, getMonotonicTimeNSec)
 import Stref.Conformance.Case
 import Stref.Conformance.Corpus
 import Stref.Conformance.Protocol
@@ -54,9 +54,10 @@ spec = describe "Conformance runner" $ do
 
     it "kills the engine's whole process group on timeout" $ do
       corpus <- fixtures
-      _ <- runCorpus (external (engineScript "hang") 1) corpus
-      (_, out, _) <- readProcessWithExitCode "sh" ["-c", "ps -eo args | grep -c '^sleep 1000$' || true"] ""
-      -- other test runs may leave none either: the count of our sleepers is 0
+      -- a marker of this run, so that sleepers of other test runs do not count
+      marker <- ("0." ++) . show . (`mod` 1000000000) <$> getMonotonicTimeNSec
+      _ <- runCorpus (external (engineScript "hang" ++ " " ++ marker) 1) corpus
+      (_, out, _) <- readProcessWithExitCode "sh" ["-c", "ps -eo args | grep -c '^sleep 1000 " ++ marker ++ "$' || true"] ""
       words out `shouldBe` ["0"]
 
   it "an engine's unsupported answers are counted apart" $ do
