@@ -713,8 +713,8 @@ compileFor ctx line cv start end by body = \e m ->
   step m $ withValue startM e m $ \s0 -> do
     writeCv s0 e m
     case pForBounds pol of
-      ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st -> loopOnce en st e m
-      ForEveryIteration -> loopEvery e m
+      ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st -> loop (\_ _ k -> k en st) e m
+      ForEveryIteration -> loop (\e' m' k -> withValue endM e' m' $ \en -> withValue stepM e' m' $ \st -> k en st) e m
   where
     pol = cxPolicies ctx
     step m k = do
@@ -729,23 +729,11 @@ compileFor ctx line cv start end by body = \e m ->
     t = varBasicType cv
     zero = defaultValue t
     intRangeInt = (\(lo, hi) -> (fromInteger lo, fromInteger hi) :: (Int, Int)) <$> intRange t
-    loopOnce en st e m = go
+    -- test, body, increment, again; @bounds@ gives the end and the step that
+    -- each test uses (the values computed once, or computed anew)
+    loop bounds e m = go
       where
-        go = step m $ do
-          c <- readCv e m
-          if continues st c en
-            then
-              bodyR e m >>= \case
-                Next -> increment st e m >>= \case
-                  Next -> go
-                  Exiting -> pure Next
-                  other -> pure other
-                Exiting -> pure Next
-                other -> pure other
-            else pure Next
-    loopEvery e m = go
-      where
-        go = step m $ withValue endM e m $ \en -> withValue stepM e m $ \st -> do
+        go = step m $ bounds e m $ \en st -> do
           c <- readCv e m
           if continues st c en
             then
