@@ -26,18 +26,7 @@ import Test.QuickCheck
 
 -- | Mapped inputs of every type, as the module generator declares them.
 inputVars :: [(Text, BasicType, Operand)]
-inputVars =
-  [(n <> T.pack (show i), t, op t i) | (n, t) <- [("GX", BOOL), ("GB", BYTE), ("GW", WORD), ("GDW", DWORD), ("GU", USINT), ("GI", INT), ("GD", DINT), ("GR", REAL)], i <- [0, 1 :: Int]]
-  where
-    op t i = case t of
-      BOOL -> OpBit KM 500 i
-      BYTE -> OpSimple KA (10 + i)
-      USINT -> OpSimple KA (20 + i)
-      WORD -> OpSimple KM (100 + i)
-      INT -> OpSimple KM (110 + i)
-      DWORD -> OpSimple KI (10 + i)
-      DINT -> OpSimple KI (20 + i)
-      REAL -> OpSimple KF (10 + i)
+inputVars = [(n, t, o) | MappedVar n t o <- standardMapped]
 
 -- | An expression over the inputs, the values of the inputs. Negative
 -- literals (@-15@, @-1.5@) are literals (MT-LEX-14, MT-LEX-19), not unary

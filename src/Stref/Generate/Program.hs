@@ -47,6 +47,7 @@ module Stref.Generate.Program
   , GFunction (..)
   , GProgram (..)
   , MappedVar (..)
+  , standardMapped
   , GArray (..)
   , arrayOperands
   , GenModule (..)
