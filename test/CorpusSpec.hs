@@ -5,7 +5,9 @@
 -- manual's rules as the case states them.
 module CorpusSpec (spec) where
 
+import qualified Data.Set as S
 import qualified Data.Text as T
+import Conformance.Paths (engineScript)
 import Stref.Conformance.Corpus
 import Stref.Conformance.Runner
 import Test.Hspec
@@ -18,6 +20,16 @@ spec = do
       corpusErrors corpus `shouldBe` []
     it "has at least 400 cases" $
       length (corpusEntries corpus) `shouldSatisfy` (>= 400)
+    it "splits into three disjoint shards whose union is the whole, run in parallel through real processes" $ do
+      let opts i = defaultRunOptions {roEngine = External (engineScript "unsupported"), roJobs = 4, roTimeout = 60, roShard = Just (i, 3)}
+      shards <- mapM (\i -> runCorpus (opts i) corpus) [1, 2, 3]
+      let ids = map (S.fromList . map resId) shards
+          isUnsupported r = case resOutcome r of
+            Unsupported _ -> True
+            _ -> False
+      sum (map S.size ids) `shouldBe` length (corpusEntries corpus)
+      S.unions ids `shouldBe` S.fromList (map entryId (corpusEntries corpus))
+      all (all isUnsupported) shards `shouldBe` True
     mapM_ caseExample (corpusEntries corpus)
   where
     caseExample entry = it (T.unpack (entryId entry)) $ case entry of
