@@ -94,6 +94,9 @@ spec = describe "Conformance case files" $ do
       -- the flow sequence opened on line 4 is found unclosed on line 5
       e <- invalid "bad-yaml.st"
       e `shouldSatisfy` T.isPrefixOf (file "bad-yaml.st" <> ":5: invalid YAML in the metadata")
+    it "an expect-if entry whose runtime-error verdict would inherit error: none" $ do
+      e <- invalid "runtime-error-inherits-none.st"
+      e `shouldSatisfy` T.isInfixOf "expect-if[0]: verdict runtime-error, but the entry states no error"
     it "an unknown key" $ do
       e <- invalid "unknown-key.st"
       e `shouldSatisfy` T.isPrefixOf (file "unknown-key.st" <> ":6: expect.outptus: unknown key 'outptus'")

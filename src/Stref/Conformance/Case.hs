@@ -150,28 +150,32 @@ data CaseOrigin = CaseOrigin
 -- its keys, replaces the earlier one and drops what no longer applies: an
 -- error code under a new @ok@ or @rejected@, a @reject@ under a run.
 effectiveExpect :: Policies -> Case -> Expect
-effectiveExpect pol c = foldl merge (caseExpect c) [cdExpect d | d <- caseExpectIf c, all holds (cdWhen d)]
+effectiveExpect pol c = foldl mergeExpect (caseExpect c) [cdExpect d | d <- caseExpectIf c, all holds (cdWhen d)]
   where
     holds (name, choice) = maybe False (\info -> piGet info pol == choice) (lookupPolicy name)
-    merge a b =
-      let v = entryVerdict b
-       in Expect
-            { exVerdict = maybe (exVerdict a) Just v
-            , exOperands = M.union (exOperands b) (exOperands a)
-            , exVars = M.union (exVars b) (exVars a)
-            , exOutputs = M.union (exOutputs b) (exOutputs a)
-            , exError = case (exError b, v) of
-                (Just e, _) -> Just e
-                (Nothing, Just ExpRejected) -> Nothing
-                (Nothing, Just ExpOk) | Just ErrCode {} <- exError a -> Nothing
-                _ -> exError a
-            , exReject = case (exReject b, v) of
-                (Just r, _) -> Just r
-                (Nothing, Just ExpRejected) -> exReject a
-                (Nothing, Just _) -> Nothing
-                (Nothing, Nothing) -> exReject a
-            }
-    entryVerdict b = case exVerdict b of
+
+-- | An @expect-if@ entry laid over the expectation it refines.
+mergeExpect :: Expect -> Expect -> Expect
+mergeExpect a b =
+  let v = entryVerdict
+   in Expect
+        { exVerdict = maybe (exVerdict a) Just v
+        , exOperands = M.union (exOperands b) (exOperands a)
+        , exVars = M.union (exVars b) (exVars a)
+        , exOutputs = M.union (exOutputs b) (exOutputs a)
+        , exError = case (exError b, v) of
+            (Just e, _) -> Just e
+            (Nothing, Just ExpRejected) -> Nothing
+            (Nothing, Just ExpOk) | Just ErrCode {} <- exError a -> Nothing
+            _ -> exError a
+        , exReject = case (exReject b, v) of
+            (Just r, _) -> Just r
+            (Nothing, Just ExpRejected) -> exReject a
+            (Nothing, Just _) -> Nothing
+            (Nothing, Nothing) -> exReject a
+        }
+  where
+    entryVerdict = case exVerdict b of
       Just v -> Just v
       Nothing
         | Just _ <- exReject b -> Just ExpRejected
@@ -292,7 +296,14 @@ parseCase file origin knownRule src = do
       expect <- optional o "expect" (expectOf cfg ["expect"] expectKeys) emptyExpect
       conds <- optional o "expect-if" (conditionals cfg ["expect-if"]) []
       checkVerdict ["expect"] expect
-      forM_' (zip [0 :: Int ..] conds) $ \(i, c) -> checkVerdict ["expect-if", idx i] (cdExpect c)
+      forM_' (zip [0 :: Int ..] conds) $ \(i, c) -> do
+        checkVerdict ["expect-if", idx i] (cdExpect c)
+        -- what the entry means once laid over expect: a runtime-error
+        -- verdict must not inherit expect's @error: none@
+        case mergeExpect expect (cdExpect c) of
+          Expect {exVerdict = Just ExpRuntimeError, exError = Just ErrNone} ->
+            failAt ["expect-if", idx i] "verdict runtime-error, but the entry states no error and expect says error: none; state error: {code: ...}"
+          _ -> pure ()
       pure
         Case
           { caseId = coId origin
