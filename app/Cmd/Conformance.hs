@@ -6,6 +6,7 @@ module Cmd.Conformance (Cmd.Conformance.command) where
 
 import Cmd.PolicyOptions
 import Control.Monad (when)
+import Data.Maybe (fromMaybe)
 import GHC.Conc (getNumProcessors, setNumCapabilities)
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
@@ -36,7 +37,7 @@ data Opts = Opts
   , oFilters :: [Text]
   , oFeatures :: [Text]
   , oRules :: [Text]
-  , oTimeout :: Double
+  , oTimeout :: Maybe Double
   , oFormat :: Format
   , oOutput :: Maybe FilePath
   , oKnown :: Maybe FilePath
@@ -65,7 +66,7 @@ opts =
     <*> many (strOption (long "filter" <> metavar "GLOB" <> help "Run only cases whose id matches (* any text, ? one character; repeatable)"))
     <*> many (strOption (long "feature" <> metavar "F" <> help "Run only cases tagged with this feature (repeatable)"))
     <*> many (strOption (long "rule" <> metavar "ID" <> help "Run only cases citing this rule (repeatable)"))
-    <*> option seconds (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Time limit per case")
+    <*> optional (option seconds (long "timeout" <> metavar "SECONDS" <> help "Time limit per case (default: 10 for an external engine; 300 for the reference, whose runs the step budget already bounds)"))
     <*> option format (long "format" <> metavar "text|json|junit" <> value FormatText <> help "Report format (default text)")
     <*> optional (strOption (long "output" <> metavar "FILE" <> help "Write the report to FILE and the text summary to stdout"))
     <*> optional (strOption (long "known-failures" <> metavar "FILE" <> help "Case ids (one a line) whose failure is expected: reported as skipped"))
@@ -115,7 +116,7 @@ run o = case resolvePolicies (oPreset o) (oPolicies o) of
                     , roFilters = oFilters o
                     , roFeatures = oFeatures o
                     , roRules = oRules o
-                    , roTimeout = oTimeout o
+                    , roTimeout = fromMaybe (maybe 300 (const 10) (oEngine o)) (oTimeout o)
                     , roKnownFailures = knownSet
                     , roMaxAnswerBytes = oMaxAnswer o
                     }
