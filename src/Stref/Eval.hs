@@ -1,3 +1,4 @@
+{-# OPTIONS_GHC -fno-state-hack #-}
 -- | The meaning of checked expressions and statements (catalogue §§ 5, 6, 8).
 --
 -- Denotational style: every 'CExpr' and 'CStmt' is translated ONCE into a
@@ -466,14 +467,18 @@ unary (Meaning fa ra) f canFail = Meaning (fa || canFail) $
       if bad then pure x else f m x
     else \e m -> ra e m >>= f m
 
--- | Apply an operator outcome: a runtime error at the node's line, or the
+-- | Apply an operator's result: a runtime error at the node's line, or the
 -- value with its effect on INTERNAL_OVERFLOW (MT-OP-7).
+result :: Line -> Machine s -> Result -> ST s Value
+result line m = \case
+  Flagged v o -> v <$ MU.unsafeWrite (mCounters m) ixOverflow (fromEnum o)
+  Plain v -> pure v
+  Raised code -> raise m (runtimeError code line)
+{-# INLINE result #-}
+
+-- | 'result' for the reference operators' 'O.Outcome'.
 outcome :: Line -> Machine s -> O.Outcome -> ST s Value
-outcome line m = \case
-  Left code -> raise m (runtimeError code line)
-  Right (v, flag) -> case flag of
-    Just b -> v <$ MU.unsafeWrite (mCounters m) ixOverflow (fromEnum b)
-    Nothing -> pure v
+outcome line m = result line m . fromOutcome
 {-# INLINE outcome #-}
 
 malformed :: Line -> Machine s -> ST s Value
@@ -535,17 +540,14 @@ meaning ctx = \case
                 else case elements V.!? k of
                   Just r -> r e m
                   Nothing -> malformed line m
-  CConv from to x ->
-    let conv = convertFast pol from to
-     in unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
+  CConv from to x -> case convertFast pol from to of
+    Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
   CNeg line _ x -> unary (meaning ctx x) (\m v -> outcome line m (O.negateValue pol v)) True -- MT-OP-4, MT-OP-6
   CNot _ x -> unary (meaning ctx x) (\_ v -> pure $! O.notValue v) False -- MT-OP-14
-  CArith line op _ a b ->
-    let f = arithFast pol op
-     in binary (meaning ctx a) (meaning ctx b) (\m x y -> outcome line m (f x y)) True
-  CCompare op _ a b ->
-    let f = compareFast op
-     in binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (VBool (f x y))) False
+  CArith line op _ a b -> case arithFast pol op of
+    Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
+  CCompare op _ a b -> case compareFast op of
+    Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (VBool (f x y))) False
   CLogic op t a b ->
     let eager = binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure $! O.logic op x y) False
      in case (pShortCircuit pol, t, op) of
@@ -713,7 +715,10 @@ compileFor ctx line cv start end by body = \e m ->
   step m $ withValue startM e m $ \s0 -> do
     writeCv s0 e m
     case pForBounds pol of
-      ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st -> loop (\_ _ k -> k en st) e m
+      ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st ->
+        case (pForAtTypeMax pol, intRangeInt, valueToInt en, valueToInt st) of
+          (StopAtEnd, Just (lo, hi), Just enI, Just stI) -> intLoop lo hi enI stI e m
+          _ -> loop (\_ _ k -> k en st) e m
       ForEveryIteration -> loop (\e' m' k -> withValue endM e' m' $ \en -> withValue stepM e' m' $ \st -> k en st) e m
   where
     pol = cxPolicies ctx
@@ -745,6 +750,29 @@ compileFor ctx line cv start end by body = \e m ->
                 Exiting -> pure Next
                 other -> pure other
             else pure Next
+    -- the same loop for the common case, an integer control variable with
+    -- bounds evaluated once and @stop-at-end@, on machine integers
+    intLoop lo hi enI stI e m = go
+      where
+        go = do
+          ok <- tick (pStepBudget pol) line m
+          if not ok
+            then pure Failing
+            else
+              readCv e m >>= \c -> case valueToInt c of
+                Just ci
+                  | if stI < 0 then ci >= enI else ci <= enI ->
+                      bodyR e m >>= \case
+                        Next ->
+                          readCv e m >>= \c' -> case valueToInt c' of
+                            Just ci'
+                              | ci' + stI < lo || ci' + stI > hi -> pure Next
+                              | otherwise -> writeCv (intToValue t (ci' + stI)) e m >> go
+                            Nothing -> Failing <$ malformed line m
+                        Exiting -> pure Next
+                        other -> pure other
+                  | otherwise -> pure Next
+                Nothing -> Failing <$ malformed line m
     continues s c en
       | numCompare s zero == LT = numCompare c en /= LT
       | otherwise = numCompare c en /= GT

@@ -16,6 +16,7 @@ module Stref.Operators
   , compareValues
   , logic
   , expt
+  , realArithWith
   ) where
 
 import Data.Bits (complement, xor, (.&.), (.|.))
@@ -105,31 +106,41 @@ narrowInteger NarrowSaturate t = clampTo t
 -- | REAL arithmetic, every operation rounded once to binary32 (Haskell
 -- 'Float' arithmetic is single precision).
 realArith :: Policies -> ArithOp -> Float -> Float -> Outcome
-realArith p op x y = case op of
+realArith = realArithWith (\r o -> Right (VReal r, Just o)) (\r -> Right (VReal r, Nothing)) Left
+
+-- | 'realArith' with the three kinds of result given as functions (a value
+-- that sets INTERNAL_OVERFLOW, a value that leaves it, an error), so that
+-- the interpreter's fast path shares this definition without building an
+-- 'Outcome'.
+realArithWith :: (Float -> Bool -> r) -> (Float -> r) -> (ErrorCode -> r) -> Policies -> ArithOp -> Float -> Float -> r
+realArithWith flagged plain failed p op x y = case op of
   OpAdd -> setsFlag (x + y)
   OpSub -> setsFlag (x - y)
   OpMul -> setsFlag (x * y)
   OpDiv
     | y == 0 -> case pRealDivZero p of
-        RealDivZeroError -> Left errDivisionByZero -- A6, MT-OP-9
-        RealDivZeroIeee -> Right (VReal (x / y), Nothing)
-    | otherwise -> Right (VReal (fst (realOverflow p [x, y] (x / y))), Nothing)
-  OpMod -> Left errOperandTypes -- MT-OP-5: MOD is ANY_INT only
+        RealDivZeroError -> failed errDivisionByZero -- A6, MT-OP-9
+        RealDivZeroIeee -> plain (x / y)
+    | otherwise -> plain (fst (realOverflow p finite (x / y)))
+  OpMod -> failed errOperandTypes -- MT-OP-5: MOD is ANY_INT only
   where
-    setsFlag r = let (r', o) = realOverflow p [x, y] r in Right (VReal r', Just o)
+    finite = not (isRealInfinite x || isRealInfinite y || isRealNaN x || isRealNaN y)
+    setsFlag r = let (r', o) = realOverflow p finite r in flagged r' o
+{-# INLINE realArithWith #-}
 
 -- | A6: a REAL result overflows when finite operands give an infinity. The
 -- overflow is reported (the flag) under both alternatives; @saturate@
 -- replaces the infinity by the largest finite binary32 of its sign, @ieee@
--- keeps it. Infinite or NaN operands propagate by IEEE rules and are not an
--- overflow of this operation.
-realOverflow :: Policies -> [Float] -> Float -> (Float, Bool)
-realOverflow p operands r
-  | isRealInfinite r && not (any isRealInfinite operands) && not (any isRealNaN operands) =
+-- keeps it. Infinite or NaN operands (@finite@ is False) propagate by IEEE
+-- rules and are not an overflow of this operation.
+realOverflow :: Policies -> Bool -> Float -> (Float, Bool)
+realOverflow p finite r
+  | isRealInfinite r && finite =
       case pRealOverflow p of
         RealOverflowSaturate -> (if r > 0 then realMax else negate realMax, True)
         RealOverflowIeee -> (r, True)
   | otherwise = (r, False)
+{-# INLINE realOverflow #-}
 
 -- | Unary minus (MT-OP-4, MT-OP-5): INT, DINT and REAL only. @-(-32768)@ is
 -- an overflow of INT (MT-OP-6). REAL negation only flips the sign.
@@ -221,5 +232,5 @@ realExpt p x e
       Just q
         | q == 0 -> (VReal (if isNegativeZero x && odd e then -0.0 else 0), Just False)
         | otherwise ->
-            let (r, o) = realOverflow p [x] (roundToReal (q ^ e))
+            let (r, o) = realOverflow p True (roundToReal (q ^ e))
              in (VReal r, Just o)

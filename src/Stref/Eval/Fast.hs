@@ -1,3 +1,4 @@
+{-# OPTIONS_GHC -fno-state-hack -fno-do-lambda-eta-expansion #-}
 -- | Fast paths of the operators for the common operand types, with exactly
 -- the results of "Stref.Operators" and "Stref.Conversions" (the reference;
 -- test/FastSpec.hs checks the equality on random values under every
@@ -5,8 +6,19 @@
 -- result of + - * DIV MOD on INT, DINT and USINT fits a 64-bit 'Int' and no
 -- 'Integer' is needed. Everything else (bit strings, which the reference
 -- rejects for arithmetic, MT-OP-5) goes to the reference.
+--
+-- Each function does its case analysis on the policies, operator and types
+-- once and returns the remaining work as a closure inside a strict data
+-- constructor ('Binary', 'Unary'): the constructor keeps GHC from pushing
+-- that analysis back into the closure, which would redo it on every
+-- operation. Results are the strict 'Result', so no lazy pair is built.
 module Stref.Eval.Fast
-  ( arithFast
+  ( Result (..)
+  , resultOutcome
+  , fromOutcome
+  , Binary (..)
+  , Unary (..)
+  , arithFast
   , compareFast
   , convertFast
   , valueToInt
@@ -18,71 +30,109 @@ import Data.Word (Word16, Word8)
 import Stref.Checked (ArithOp (..), CmpOp (..))
 import Stref.Conversions (convert)
 import Stref.Diagnostics
-import Stref.Numeric (isRealInfinite, isRealNaN, realMax)
 import qualified Stref.Operators as O
 import Stref.Policy
 import Stref.Types
 import Stref.Values
 
+-- | An operator's result: a value that sets INTERNAL_OVERFLOW to the given
+-- state (MT-OP-7), a value that leaves it, or a runtime error.
+data Result
+  = Flagged !Value !Bool
+  | Plain !Value
+  | Raised !ErrorCode
+  deriving (Eq, Show)
+
+-- | The reference's form of a result.
+resultOutcome :: Result -> O.Outcome
+resultOutcome = \case
+  Flagged v o -> Right (v, Just o)
+  Plain v -> Right (v, Nothing)
+  Raised c -> Left c
+
+fromOutcome :: O.Outcome -> Result
+fromOutcome = \case
+  Right (v, Just o) -> Flagged v o
+  Right (v, Nothing) -> Plain v
+  Left c -> Raised c
+
+-- | A binary operation with everything but its operands fixed.
+data Binary a = Binary !(Value -> Value -> a)
+
+-- | A unary operation with everything but its operand fixed.
+data Unary a = Unary !(Value -> a)
+
 -- | 'O.arith' with the policy and operator fixed once (MT-OP-4..10).
-arithFast :: Policies -> ArithOp -> Value -> Value -> O.Outcome
-arithFast p op = \a b -> case (a, b) of
-  (VInt x, VInt y) -> onInt (fromIntegral x) (fromIntegral y)
-  (VDInt x, VDInt y) -> onDInt (fromIntegral x) (fromIntegral y)
-  (VReal x, VReal y) -> realArith p op x y
-  (VUSInt x, VUSInt y) -> onUSInt (fromIntegral x) (fromIntegral y)
-  _ -> O.arith p op a b
+arithFast :: Policies -> ArithOp -> Binary Result
+arithFast p op = case (intArith p op INT (VInt . fromIntegral), intArith p op DINT (VDInt . fromIntegral), intArith p op USINT (VUSInt . fromIntegral)) of
+  (IntOp onInt, IntOp onDInt, IntOp onUSInt) -> Binary $ \a b -> case (a, b) of
+    (VInt x, VInt y) -> onInt (fromIntegral x) (fromIntegral y)
+    (VDInt x, VDInt y) -> onDInt (fromIntegral x) (fromIntegral y)
+    (VReal x, VReal y) -> onReal x y
+    (VUSInt x, VUSInt y) -> onUSInt (fromIntegral x) (fromIntegral y)
+    _ -> fromOutcome (O.arith p op a b)
   where
-    -- the operation on each type, chosen once
-    onInt = intArith p op INT (\r -> VInt (fromIntegral r))
-    onDInt = intArith p op DINT (\r -> VDInt (fromIntegral r))
-    onUSInt = intArith p op USINT (\r -> VUSInt (fromIntegral r))
+    onReal = O.realArithWith (Flagged . VReal) (Plain . VReal) Raised p op
+
+-- | An operation on the numbers of one integer type.
+data IntOp = IntOp !(Int -> Int -> Result)
 
 -- | 'Stref.Operators' intArith on 'Int' (the same case analysis), with the
 -- operator, type and policies fixed once.
-intArith :: Policies -> ArithOp -> BasicType -> (Int -> Value) -> Int -> Int -> O.Outcome
-intArith p op t mk = case op of
+intArith :: Policies -> ArithOp -> BasicType -> (Int -> Value) -> IntOp
+intArith p op t mk = IntOp $ case op of
   OpAdd -> \x y -> setsFlag (x + y)
   OpSub -> \x y -> setsFlag (x - y)
   OpMul -> \x y -> setsFlag (x * y)
   OpDiv -> \x y ->
     if y == 0
-      then case pDivZero p of
-        DivZeroError -> Left errDivisionByZero -- MT-OP-9, MT-ERR-2020
-        DivZeroZero -> Right (mk 0, Nothing)
-        DivZeroTrap -> Left trapDivisionByZero
-      else keepsFlag (divide (pModSign p) x y) -- MT-OP-10, A7
+      then case divZero of
+        DivZeroError -> Raised errDivisionByZero -- MT-OP-9, MT-ERR-2020
+        DivZeroZero -> Plain (mk 0)
+        DivZeroTrap -> Raised trapDivisionByZero
+      else keepsFlag (divide modSign x y) -- MT-OP-10, A7
   OpMod -> \x y ->
     if y == 0
-      then case pModZero p of
-        ModZeroZero -> Right (mk 0, Nothing) -- MT-OP-8
-        ModZeroError -> Left errModZero
-      else keepsFlag (modulo (pModSign p) x y)
+      then case modZero of
+        ModZeroZero -> Plain (mk 0) -- MT-OP-8
+        ModZeroError -> Raised errModZero
+      else keepsFlag (modulo modSign x y)
   where
-    (lo, hi) = range t
-    (wl, wh) = case pArithWidth p of
+    !divZero = pDivZero p
+    !modZero = pModZero p
+    !modSign = pModSign p
+    !overflow = pOverflow p
+    !(lo, hi) = range t
+    !(wl, wh) = case pArithWidth p of
       OperandType -> (lo, hi)
       Promote32 -> (dintLo, dintHi)
     -- MT-OP-7: + - * set the flag to whether the result overflowed
-    setsFlag exact
-      | wl <= exact && exact <= wh = Right (mk (narrow exact), Just False)
-      | otherwise = case pOverflow p of
-          Saturate -> Right (mk (narrow (max wl (min wh exact))), Just True) -- MT-OP-6
-          Wrap -> Right (mk (narrow (wrapIn wl wh exact)), Just True)
-          Trap -> Left trapOverflow
-    keepsFlag exact
-      | wl <= exact && exact <= wh = Right (mk (narrow exact), Nothing)
-      | otherwise = case pOverflow p of
-          Saturate -> Right (mk (narrow (max wl (min wh exact))), Nothing)
-          Wrap -> Right (mk (narrow (wrapIn wl wh exact)), Nothing)
-          Trap -> Left trapOverflow
+    setsFlag !exact
+      | wl <= exact && exact <= wh = Flagged (mk $! narrow exact) False
+      | otherwise = case overflow of
+          Saturate -> Flagged (mk $! narrow (max wl (min wh exact))) True -- MT-OP-6
+          Wrap -> Flagged (mk $! narrow (wrapIn wl wh exact)) True
+          Trap -> Raised trapOverflow
+    keepsFlag !exact
+      | wl <= exact && exact <= wh = Plain (mk $! narrow exact)
+      | otherwise = case overflow of
+          Saturate -> Plain (mk $! narrow (max wl (min wh exact)))
+          Wrap -> Plain (mk $! narrow (wrapIn wl wh exact))
+          Trap -> Raised trapOverflow
     -- under promote-32 the 32-bit result is narrowed to the type like an
     -- integer narrowing conversion (the identity under operand-type)
-    narrow = case pArithWidth p of
-      OperandType -> id
-      Promote32 -> case pNarrowInt p of
-        NarrowWrap -> wrapIn lo hi
-        NarrowSaturate -> \r -> max lo (min hi r)
+    !promoted = case pArithWidth p of
+      OperandType -> False
+      Promote32 -> True
+    !narrowSaturates = case pNarrowInt p of
+      NarrowWrap -> False
+      NarrowSaturate -> True
+    narrow r
+      | not promoted = r
+      | narrowSaturates = max lo (min hi r)
+      | otherwise = wrapIn lo hi r
+
+{-# INLINE intArith #-}
 
 wrapIn :: Int -> Int -> Int -> Int
 wrapIn lo hi x = lo + (x - lo) `mod` (hi - lo + 1)
@@ -108,30 +158,9 @@ modulo :: ModSign -> Int -> Int -> Int
 modulo ModSignDividend x y = x `rem` y
 modulo ModSignEuclidean x y = x `mod` abs y
 
--- | 'Stref.Operators' realArith without the operand lists (A6).
-realArith :: Policies -> ArithOp -> Float -> Float -> O.Outcome
-realArith p op x y = case op of
-  OpAdd -> setsFlag (x + y)
-  OpSub -> setsFlag (x - y)
-  OpMul -> setsFlag (x * y)
-  OpDiv
-    | y == 0 -> case pRealDivZero p of
-        RealDivZeroError -> Left errDivisionByZero -- A6, MT-OP-9
-        RealDivZeroIeee -> Right (VReal (x / y), Nothing)
-    | otherwise -> Right (VReal (fst (overflow (x / y))), Nothing)
-  OpMod -> Left errOperandTypes
-  where
-    setsFlag r = let (r', o) = overflow r in Right (VReal r', Just o)
-    overflow r
-      | isRealInfinite r && not (isRealInfinite x || isRealInfinite y || isRealNaN x || isRealNaN y) =
-          case pRealOverflow p of
-            RealOverflowSaturate -> (if r > 0 then realMax else negate realMax, True)
-            RealOverflowIeee -> (r, True)
-      | otherwise = (r, False)
-
 -- | 'O.compareValues' with the operator fixed once (MT-OP-11).
-compareFast :: CmpOp -> Value -> Value -> Bool
-compareFast op = case op of
+compareFast :: CmpOp -> Binary Bool
+compareFast op = Binary $ case op of
   OpLt -> go (<) (<)
   OpGt -> go (>) (>)
   OpLe -> go (<=) (<=)
@@ -150,13 +179,12 @@ compareFast op = case op of
       (VByte x, VByte y) -> cmpI (fromIntegral x) (fromIntegral y)
       (VDWord x, VDWord y) -> cmpI (fromIntegral x) (fromIntegral y)
       _ -> O.compareValues op a b
-{-# INLINE compareFast #-}
 
 -- | 'convert' with the two types fixed once: the conversions between INT,
 -- DINT, USINT and REAL that need no rounding or narrowing policy directly,
 -- the rest through the reference (MT-CONV-5, Table 4-6).
-convertFast :: Policies -> BasicType -> BasicType -> Value -> Value
-convertFast p from to = case (from, to) of
+convertFast :: Policies -> BasicType -> BasicType -> Unary Value
+convertFast p from to = Unary $ case (from, to) of
   _ | from == to -> id
   (INT, DINT) -> \case VInt x -> VDInt (fromIntegral x); v -> ref v -- C40: sign-extended
   (USINT, INT) -> \case VUSInt x -> VInt (fromIntegral x); v -> ref v
