@@ -59,6 +59,9 @@ genReal =
       [ (3, realFromBits <$> arbitrary)
       , (3, fromIntegral <$> (choose (-100000, 100000) :: Gen Int))
       , (2, elements [0, -0.0, 1, -1, 0.5, 3.0e38, -3.0e38, 1 / 0, -1 / 0, 0 / 0, 16777217, 2147483648, -2147483904])
+      , -- halves (ties of round-even, MT-CONV-9) and the edges of INT and DINT
+        (2, (/ 2) . fromIntegral <$> (choose (-100001, 100001) :: Gen Int))
+      , (1, elements [2.5, -2.5, 3.5, -0.5, 32767.5, -32768.5, 32768, -32769, 2147483520, -2147483648, 2147483904])
       ]
 
 genOfType :: BasicType -> Gen Value
@@ -83,7 +86,7 @@ spec :: Spec
 spec = describe "Fast paths of the interpreter" $ do
   it "arithFast gives the outcome of Operators.arith" $
     property $ withMaxSuccess 3000 $ forAll ((,,) <$> genPolicies <*> every <*> genPair) $ \(p, op :: ArithOp, (a, b)) ->
-      let Binary f = arithFast p op in resultOutcome (f a b) === O.arith p op a b
+      let Binary f = arithFast p op (valueType a) in resultOutcome (f a b) === O.arith p op a b
   it "compareFast gives the result of Operators.compareValues" $
     property $ withMaxSuccess 3000 $ forAll ((,) <$> every <*> genPair) $ \(op :: CmpOp, (a, b)) ->
       let Binary f = compareFast op in f a b === O.compareValues op a b
@@ -95,4 +98,4 @@ spec = describe "Fast paths of the interpreter" $ do
       fmap toInteger (valueToInt v) === valueToInteger v
   it "saturates INT addition at 32767 and raises the flag (MT-OP-6, MT-OP-7)" $
     -- 32000 + 1000 = 33000 > 32767
-    let Binary add = arithFast mastertoolXE OpAdd in add (VInt 32000) (VInt 1000) `shouldBe` Flagged (VInt 32767) True
+    let Binary add = arithFast mastertoolXE OpAdd INT in add (VInt 32000) (VInt 1000) `shouldBe` Flagged (VInt 32767) True

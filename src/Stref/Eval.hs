@@ -1,4 +1,3 @@
-{-# OPTIONS_GHC -fno-state-hack #-}
 -- | The meaning of checked expressions and statements (catalogue §§ 5, 6, 8).
 --
 -- Denotational style: every 'CExpr' and 'CStmt' is translated ONCE into a
@@ -235,8 +234,9 @@ readSlot vec def k
   | otherwise = pure def
 {-# INLINE readSlot #-}
 
+-- | Strict in the value: a slot never holds a suspended computation.
 writeSlot :: MV.MVector s Value -> Int -> Value -> ST s ()
-writeSlot vec k x
+writeSlot vec k !x
   | k >= 0 && k < MV.length vec = MV.unsafeWrite vec k x
   | otherwise = pure ()
 {-# INLINE writeSlot #-}
@@ -353,7 +353,40 @@ data Ctx = Ctx
 -- it can fail. After a closure that can fail, the caller looks at the
 -- machine's error flag before it goes on, so an error stops the evaluation
 -- at once (no later operand is evaluated, no later write happens).
-data Meaning s = Meaning !Bool (Run s Value)
+--
+-- The 'Leaf' says when the expression is a constant or a variable in a slot,
+-- so that an operator over it reads the slot itself instead of calling a
+-- closure (the most common operands; a call per leaf would dominate).
+data Meaning s = Meaning !Bool (Run s Value) !Leaf
+
+data Leaf
+  = Constant !Value
+  | DataSlot !Int !Value -- ^ a slot of the data area, and the type default
+  | FrameSlot !Int !Value -- ^ a slot of the active frame, and the type default
+  | Computed
+
+-- | A closure built by a step of translation. The strict box keeps GHC
+-- from moving the choices made while building it (which leaf, which
+-- operator) into the closure, where they would be made again on every run.
+data Staged s = Staged !(Run s Value)
+
+-- | An expression that is none of the leaves.
+computed :: Bool -> Run s Value -> Meaning s
+computed canFail r = Meaning canFail r Computed
+
+staged :: Bool -> Staged s -> Meaning s
+staged canFail (Staged r) = computed canFail r
+
+-- | Give the continuation a closure reading the operand: for a leaf, a
+-- closure that does the read itself (inlined there), else the operand's
+-- closure.
+withOperand :: Meaning s -> (Run s Value -> r) -> r
+withOperand (Meaning _ r leaf) k = case leaf of
+  Constant c -> k (\_ _ -> pure c)
+  DataSlot i d -> k (\_ m -> readSlot (mData m) d i)
+  FrameSlot i d -> k (\_ m -> readSTRef (mFrame m) >>= \f -> readSlot f d i)
+  Computed -> k r
+{-# INLINE withOperand #-}
 
 -- | Translate the whole module once. Functions refer to each other through
 -- the lazily built table of meanings (a knot: each function is translated
@@ -381,7 +414,7 @@ flowExec r = Exec $ \e m ->
 -- | An expression closure as an 'Exec'.
 compileExpr :: Ctx -> CExpr -> Exec s Value
 compileExpr ctx x =
-  let Meaning _ r = meaning ctx x
+  let Meaning _ r _ = meaning ctx x
    in Exec $ \e m -> do
         v <- r e m
         bad <- hasFailed m
@@ -432,7 +465,7 @@ compileBlock ctx = go . map (compileStmt ctx)
 -- | Run an expression, then the continuation with its value, unless the
 -- expression failed.
 withValue :: Meaning s -> Env -> Machine s -> (Value -> ST s Flow) -> ST s Flow
-withValue (Meaning canFail r) e m k
+withValue (Meaning canFail r _) e m k
   | canFail = do
       x <- r e m
       bad <- hasFailed m
@@ -443,29 +476,29 @@ withValue (Meaning canFail r) e m k
 -- | Evaluate two operands left to right (decision A18), stopping at an
 -- error, then combine them.
 binary :: Meaning s -> Meaning s -> (Machine s -> Value -> Value -> ST s Value) -> Bool -> Meaning s
-binary (Meaning fa ra) (Meaning fb rb) f canFail = Meaning (fa || fb || canFail) $ case (fa, fb) of
-  (False, False) -> \e m -> do
-    x <- ra e m
-    y <- rb e m
-    f m x y
-  _ -> \e m -> do
-    x <- ra e m
-    bad <- if fa then hasFailed m else pure False
-    if bad
-      then pure x
-      else do
-        y <- rb e m
-        bad' <- if fb then hasFailed m else pure False
-        if bad' then pure y else f m x y
+binary ma@(Meaning fa _ _) mb@(Meaning fb _ _) f canFail =
+  case withOperand ma $ \ra -> withOperand mb $ \rb -> Staged $ \e m -> do
+      x <- ra e m
+      bad <- if fa then hasFailed m else pure False
+      if bad
+        then pure x
+        else do
+          y <- rb e m
+          bad' <- if fb then hasFailed m else pure False
+          if bad' then pure y else f m x y
+  of
+    Staged r -> computed (fa || fb || canFail) r
+{-# INLINE binary #-}
 
 unary :: Meaning s -> (Machine s -> Value -> ST s Value) -> Bool -> Meaning s
-unary (Meaning fa ra) f canFail = Meaning (fa || canFail) $
-  if fa
-    then \e m -> do
-      x <- ra e m
-      bad <- hasFailed m
-      if bad then pure x else f m x
-    else \e m -> ra e m >>= f m
+unary ma@(Meaning fa _ _) f canFail =
+  case withOperand ma $ \ra -> Staged $ \e m -> do
+    x <- ra e m
+    bad <- if fa then hasFailed m else pure False
+    if bad then pure x else f m x
+  of
+    Staged r -> computed (fa || canFail) r
+{-# INLINE unary #-}
 
 -- | Apply an operator's result: a runtime error at the node's line, or the
 -- value with its effect on INTERNAL_OVERFLOW (MT-OP-7).
@@ -488,22 +521,21 @@ malformed line m = raise m (runtimeError errMalformed line)
 -- @index-out-of-range@ policy (MT-ARR-2, MT-ARR-8, decision A23); a
 -- negative number after an error was raised.
 elementIndex :: Policies -> Line -> Var -> Machine s -> Value -> ST s Int
-elementIndex pol line v = case varType v of
+elementIndex pol line v = case intBounds v of
+  Just (loI, hiI) -> \m iv -> case valueToInt iv of
+    Just k
+      | k >= loI && k <= hiI -> pure (k - loI)
+    _ -> elementIndexRef pol line v m iv
+  Nothing -> elementIndexRef pol line v
+
+-- | The bounds of an array as machine integers, when both fit a DINT (the
+-- common case, handled without 'Integer').
+intBounds :: Var -> Maybe (Int, Int)
+intBounds v = case varType v of
   Array lo hi _
-    | lo >= toInteger dintMin && hi <= toInteger dintMax ->
-        -- the common case without Integer: a DINT index within DINT bounds
-        let loI = fromInteger lo :: Int
-            hiI = fromInteger hi :: Int
-         in \m -> \case
-              VDInt k32
-                | k >= loI && k <= hiI -> pure (k - loI)
-                where
-                  k = fromIntegral k32
-              iv -> elementIndexRef pol line v m iv
-  _ -> elementIndexRef pol line v
-  where
-    dintMin = minBound :: Int32
-    dintMax = maxBound :: Int32
+    | lo >= toInteger (minBound :: Int32) && hi <= toInteger (maxBound :: Int32) ->
+        Just (fromInteger lo, fromInteger hi)
+  _ -> Nothing
 
 elementIndexRef :: Policies -> Line -> Var -> Machine s -> Value -> ST s Int
 elementIndexRef pol line v m iv = case (valueToInteger iv, varType v) of
@@ -518,33 +550,52 @@ elementIndexRef pol line v m iv = case (valueToInteger iv, varType v) of
   where
     failed c = (-1) <$ raise m (runtimeError c line)
 
+-- | An index is a DINT expression (MT-ARR-2); the conversion of a narrower
+-- integer to DINT keeps its number, which is all an index needs, so it is
+-- left out ('elementIndex' takes any integer value).
+indexExpr :: CExpr -> CExpr
+indexExpr = \case
+  CConv from DINT x | from `elem` [INT, USINT, BYTE, WORD] -> x
+  x -> x
+
 -- | The meaning of an expression.
 meaning :: Ctx -> CExpr -> Meaning s
 meaning ctx = \case
-  CLit v -> Meaning False (\_ _ -> pure v)
-  CRead v -> Meaning False (readRun v 0)
+  CLit v -> Meaning False (\_ _ -> pure v) (Constant v)
+  CRead v ->
+    let leaf = case varHome v of
+          Data i -> DataSlot i (defaultValue (varBasicType v))
+          Frame i -> FrameSlot i (defaultValue (varBasicType v))
+          _ -> Computed
+     in Meaning False (readRun v 0) leaf
   CReadIndex line v ix ->
     let index = elementIndex pol line v
         -- the element closures, built once
         elements = V.generate (varElements v) (readRun v)
-        Meaning fi ri = meaning ctx ix
-     in Meaning True $ \e m -> do
+        def = defaultValue (varBasicType v)
+        ixM@(Meaning fi _ _) = meaning ctx (indexExpr ix)
+        -- the index, unless it failed
+        withIndex ri e m k = do
           iv <- ri e m
           bad <- if fi then hasFailed m else pure False
-          if bad
-            then pure iv
-            else do
-              k <- index m iv
+          if bad then pure iv else k iv
+        {-# INLINE withIndex #-}
+     in staged True $ withOperand ixM $ \ri -> Staged $ case (varHome v, intBounds v) of
+          (Data base, Just (lo, hi)) ->
+            -- an element of the data area, the bounds checked inline
+            \e m -> withIndex ri e m $ \iv -> case valueToInt iv of
+              Just i | i >= lo && i <= hi -> readSlot (mData m) def (base + i - lo)
+              _ -> index m iv >>= \k -> if k < 0 then pure iv else readSlot (mData m) def (base + k)
+          _ -> \e m -> withIndex ri e m $ \iv ->
+            index m iv >>= \k ->
               if k < 0
                 then pure iv
-                else case elements V.!? k of
-                  Just r -> r e m
-                  Nothing -> malformed line m
+                else maybe (malformed line m) (\r -> r e m) (elements V.!? k)
   CConv from to x -> case convertFast pol from to of
     Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
   CNeg line _ x -> unary (meaning ctx x) (\m v -> outcome line m (O.negateValue pol v)) True -- MT-OP-4, MT-OP-6
   CNot _ x -> unary (meaning ctx x) (\_ v -> pure $! O.notValue v) False -- MT-OP-14
-  CArith line op _ a b -> case arithFast pol op of
+  CArith line op t a b -> case arithFast pol op t of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
   CCompare op _ a b -> case compareFast op of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (VBool (f x y))) False
@@ -558,9 +609,9 @@ meaning ctx = \case
           _ -> eager
     where
       shortCircuit decisive =
-        let Meaning fa ra = meaning ctx a
-            Meaning fb rb = meaning ctx b
-         in Meaning (fa || fb) $ \e m -> do
+        let Meaning fa ra _ = meaning ctx a
+            Meaning fb rb _ = meaning ctx b
+         in computed (fa || fb) $ \e m -> do
               x <- ra e m
               bad <- if fa then hasFailed m else pure False
               if bad || x == decisive
@@ -569,7 +620,7 @@ meaning ctx = \case
                   y <- rb e m
                   bad' <- if fb then hasFailed m else pure False
                   if bad' then pure y else pure $! O.logic op x y
-  CCall line fid _ args -> Meaning True (compileCall ctx line fid args)
+  CCall line fid _ args -> computed True (compileCall ctx line fid args)
   CExpt line _ a b -> binary (meaning ctx a) (meaning ctx b) (\m x y -> outcome line m (O.expt pol x y)) True -- MT-OP-20
   where
     pol = cxPolicies ctx
@@ -599,7 +650,7 @@ compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
 -- | The arguments left to right, stopping at the first error.
 evalArgs :: [Meaning s] -> Env -> Machine s -> ST s [Value]
 evalArgs [] _ _ = pure []
-evalArgs (Meaning f r : rest) e m = do
+evalArgs (Meaning f r _ : rest) e m = do
   x <- r e m
   bad <- if f then hasFailed m else pure False
   if bad then pure [] else (x :) <$> evalArgs rest e m
@@ -610,24 +661,33 @@ compileStmt ctx = \case
     -- MT-STMT-2: the right side is evaluated before the index of the target
     let xM = meaning ctx x
      in case target of
-          LTVar v ->
-            let w = writeRun v 0
-             in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
+          LTVar v -> case varHome v of
+            Data i -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ writeSlot (mData m) i val
+            _ ->
+              let w = writeRun v 0
+               in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
           LTIndex iline v ix ->
-            let ixM = meaning ctx ix
+            let ixM = meaning ctx (indexExpr ix)
                 index = elementIndex pol iline v
                 writers = V.generate (varElements v) (writeRun v)
-             in \e m -> stepThen line m $ withValue xM e m $ \val ->
-                  withValue ixM e m $ \iv -> do
-                    k <- index m iv
-                    if k < 0
-                      then pure Failing
-                      else case writers V.!? k of
-                        Just w -> Next <$ w val e m
-                        Nothing -> Failing <$ malformed iline m
+             in case (varHome v, intBounds v) of
+                  (Data base, Just (lo, hi)) ->
+                    -- an element of the data area, the bounds checked inline
+                    \e m -> stepThen line m $ withValue xM e m $ \val ->
+                      withValue ixM e m $ \iv -> case valueToInt iv of
+                        Just i | i >= lo && i <= hi -> Next <$ writeSlot (mData m) (base + i - lo) val
+                        _ -> index m iv >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
+                  _ -> \e m -> stepThen line m $ withValue xM e m $ \val ->
+                    withValue ixM e m $ \iv -> do
+                      k <- index m iv
+                      if k < 0
+                        then pure Failing
+                        else case writers V.!? k of
+                          Just w -> Next <$ w val e m
+                          Nothing -> Failing <$ malformed iline m
   SCall line fid args ->
     -- MT-STMT-3: the result is discarded
-    let callM = Meaning True (compileCall ctx line fid args)
+    let callM = computed True (compileCall ctx line fid args)
      in \e m -> stepThen line m $ withValue callM e m $ \_ -> pure Next
   SIf arms elseB ->
     -- MT-STMT-6: the first true test selects its branch, else ELSE
@@ -717,7 +777,10 @@ compileFor ctx line cv start end by body = \e m ->
     case pForBounds pol of
       ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st ->
         case (pForAtTypeMax pol, intRangeInt, valueToInt en, valueToInt st) of
-          (StopAtEnd, Just (lo, hi), Just enI, Just stI) -> intLoop lo hi enI stI e m
+          (StopAtEnd, Just (lo, hi), Just enI, Just stI) -> case varHome cv of
+            -- the control variable read and written in place
+            Data i -> intLoop (\_ m' -> readSlot (mData m') zero i) (\x _ m' -> writeSlot (mData m') i x) lo hi enI stI e m
+            _ -> intLoop readCv writeCv lo hi enI stI e m
           _ -> loop (\_ _ k -> k en st) e m
       ForEveryIteration -> loop (\e' m' k -> withValue endM e' m' $ \en -> withValue stepM e' m' $ \st -> k en st) e m
   where
@@ -752,27 +815,28 @@ compileFor ctx line cv start end by body = \e m ->
             else pure Next
     -- the same loop for the common case, an integer control variable with
     -- bounds evaluated once and @stop-at-end@, on machine integers
-    intLoop lo hi enI stI e m = go
+    intLoop rd wr lo hi enI stI e m = go
       where
         go = do
           ok <- tick (pStepBudget pol) line m
           if not ok
             then pure Failing
             else
-              readCv e m >>= \c -> case valueToInt c of
+              rd e m >>= \c -> case valueToInt c of
                 Just ci
                   | if stI < 0 then ci >= enI else ci <= enI ->
                       bodyR e m >>= \case
                         Next ->
-                          readCv e m >>= \c' -> case valueToInt c' of
+                          rd e m >>= \c' -> case valueToInt c' of
                             Just ci'
                               | ci' + stI < lo || ci' + stI > hi -> pure Next
-                              | otherwise -> writeCv (intToValue t (ci' + stI)) e m >> go
+                              | otherwise -> (wr $! intToValue t (ci' + stI)) e m >> go
                             Nothing -> Failing <$ malformed line m
                         Exiting -> pure Next
                         other -> pure other
                   | otherwise -> pure Next
                 Nothing -> Failing <$ malformed line m
+    {-# INLINE intLoop #-}
     continues s c en
       | numCompare s zero == LT = numCompare c en /= LT
       | otherwise = numCompare c en /= GT

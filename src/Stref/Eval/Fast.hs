@@ -1,4 +1,3 @@
-{-# OPTIONS_GHC -fno-state-hack -fno-do-lambda-eta-expansion #-}
 -- | Fast paths of the operators for the common operand types, with exactly
 -- the results of "Stref.Operators" and "Stref.Conversions" (the reference;
 -- test/FastSpec.hs checks the equality on random values under every
@@ -62,36 +61,53 @@ data Binary a = Binary !(Value -> Value -> a)
 -- | A unary operation with everything but its operand fixed.
 data Unary a = Unary !(Value -> a)
 
--- | 'O.arith' with the policy and operator fixed once (MT-OP-4..10).
-arithFast :: Policies -> ArithOp -> Binary Result
-arithFast p op = case (intArith p op INT (VInt . fromIntegral), intArith p op DINT (VDInt . fromIntegral), intArith p op USINT (VUSInt . fromIntegral)) of
-  (IntOp onInt, IntOp onDInt, IntOp onUSInt) -> Binary $ \a b -> case (a, b) of
-    (VInt x, VInt y) -> onInt (fromIntegral x) (fromIntegral y)
-    (VDInt x, VDInt y) -> onDInt (fromIntegral x) (fromIntegral y)
-    (VReal x, VReal y) -> onReal x y
-    (VUSInt x, VUSInt y) -> onUSInt (fromIntegral x) (fromIntegral y)
-    _ -> fromOutcome (O.arith p op a b)
+-- | 'O.arith' with the policy, the operator and the operands' type (the
+-- checker's) fixed once (MT-OP-4..10). Operands of another type go to the
+-- reference, which rejects them.
+arithFast :: Policies -> ArithOp -> BasicType -> Binary Result
+arithFast p op t = case t of
+  INT -> intArith p op INT (\r -> VInt (fromIntegral r)) $ \f -> Binary $ \a b -> case (a, b) of
+    (VInt x, VInt y) -> f (fromIntegral x) (fromIntegral y)
+    _ -> reference a b
+  DINT -> intArith p op DINT (\r -> VDInt (fromIntegral r)) $ \f -> Binary $ \a b -> case (a, b) of
+    (VDInt x, VDInt y) -> f (fromIntegral x) (fromIntegral y)
+    _ -> reference a b
+  USINT -> intArith p op USINT (\r -> VUSInt (fromIntegral r)) $ \f -> Binary $ \a b -> case (a, b) of
+    (VUSInt x, VUSInt y) -> f (fromIntegral x) (fromIntegral y)
+    _ -> reference a b
+  REAL -> realArith op $ \f -> Binary $ \a b -> case (a, b) of
+    (VReal x, VReal y) -> f x y
+    _ -> reference a b
+  _ -> Binary reference
   where
-    onReal = O.realArithWith (Flagged . VReal) (Plain . VReal) Raised p op
-
--- | An operation on the numbers of one integer type.
-data IntOp = IntOp !(Int -> Int -> Result)
+    reference a b = fromOutcome (O.arith p op a b)
+    -- the operator chosen here, so that each closure holds the code of one
+    -- operator only
+    realArith o lift = case o of
+      OpAdd -> lift (onReal OpAdd)
+      OpSub -> lift (onReal OpSub)
+      OpMul -> lift (onReal OpMul)
+      OpDiv -> lift (onReal OpDiv)
+      OpMod -> lift (onReal OpMod)
+    onReal = O.realArithWith (\r o -> Flagged (VReal r) o) (Plain . VReal) Raised p
+    {-# INLINE realArith #-}
 
 -- | 'Stref.Operators' intArith on 'Int' (the same case analysis), with the
--- operator, type and policies fixed once.
-intArith :: Policies -> ArithOp -> BasicType -> (Int -> Value) -> IntOp
-intArith p op t mk = IntOp $ case op of
-  OpAdd -> \x y -> setsFlag (x + y)
-  OpSub -> \x y -> setsFlag (x - y)
-  OpMul -> \x y -> setsFlag (x * y)
-  OpDiv -> \x y ->
+-- operator, type and policies fixed once; @lift@ receives the operation of
+-- the chosen operator (inlined, so that it is one closure without calls).
+intArith :: Policies -> ArithOp -> BasicType -> (Int -> Value) -> ((Int -> Int -> Result) -> r) -> r
+intArith p op t mk lift = case op of
+  OpAdd -> lift $ \x y -> setsFlag (x + y)
+  OpSub -> lift $ \x y -> setsFlag (x - y)
+  OpMul -> lift $ \x y -> setsFlag (x * y)
+  OpDiv -> lift $ \x y ->
     if y == 0
       then case divZero of
         DivZeroError -> Raised errDivisionByZero -- MT-OP-9, MT-ERR-2020
         DivZeroZero -> Plain (mk 0)
         DivZeroTrap -> Raised trapDivisionByZero
       else keepsFlag (divide modSign x y) -- MT-OP-10, A7
-  OpMod -> \x y ->
+  OpMod -> lift $ \x y ->
     if y == 0
       then case modZero of
         ModZeroZero -> Plain (mk 0) -- MT-OP-8
@@ -195,9 +211,20 @@ convertFast p from to = Unary $ case (from, to) of
   (DINT, INT) -> narrowTo INT (\x -> VInt (fromIntegral x :: Int16))
   (DINT, BYTE) -> narrowTo BYTE (\x -> VByte (fromIntegral x :: Word8))
   (DINT, WORD) -> narrowTo WORD (\x -> VWord (fromIntegral x :: Word16))
+  (REAL, DINT) -> realTo DINT (\x -> VDInt (fromIntegral x))
+  (REAL, INT) -> realTo INT (\x -> VInt (fromIntegral x))
   _ -> ref
   where
     ref = convert p from to
+    -- C52, C53 under the saturating policies for a REAL of magnitude below
+    -- 2^31, where truncate and round on machine integers are exact (GHC's
+    -- round breaks ties to even, as MT-CONV-9 asks); NaN, infinities and
+    -- larger values go to the reference
+    realTo t mk = case pRealToInt p of
+      TruncateSaturate -> \case VReal r | abs r < 2147483648 -> mk (clamp t (truncate r)); v -> ref v
+      RoundEvenSaturate -> \case VReal r | abs r < 2147483648 -> mk (clamp t (round r)); v -> ref v
+      RoundEvenWrap -> ref
+    clamp t x = let (l, h) = range t in max l (min h x)
     -- a narrower target: the low bits, or the nearest value under
     -- narrow-int=saturate (C16, C17, C44-C47)
     narrowTo t mk = case pNarrowInt p of
