@@ -429,7 +429,7 @@ compileFunction ctx f = \args e m -> do
   fr <- V.thaw template
   writeSTRef (mFrame m) fr
   sequence_ (zipWith (\w x -> w x e m) params args)
-  r <- unExec (mapM_ initVar (cfLocals f)) e m
+  r <- unExec initLocals e m
   case r of
     Failed err -> raise m err
     Done () ->
@@ -438,6 +438,7 @@ compileFunction ctx f = \args e m -> do
         _ -> readSTRef (mFrame m) >>= \fr' -> readSlot fr' result 0
   where
     body = compileBlock ctx (cfBody f)
+    initLocals = mapM_ initVar (cfLocals f)
     params = map (`writeRun` 0) (cfParams f)
     result = defaultValue (cfResult f)
     frameSlot = \case
@@ -558,6 +559,11 @@ indexExpr = \case
   CConv from DINT x | from `elem` [INT, USINT, BYTE, WORD] -> x
   x -> x
 
+-- | TRUE and FALSE without allocating a value.
+boolValue :: Bool -> Value
+boolValue b = if b then VBool True else VBool False
+{-# INLINE boolValue #-}
+
 -- | The meaning of an expression.
 meaning :: Ctx -> CExpr -> Meaning s
 meaning ctx = \case
@@ -598,7 +604,7 @@ meaning ctx = \case
   CArith line op t a b -> case arithFast pol op t of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
   CCompare op _ a b -> case compareFast op of
-    Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (VBool (f x y))) False
+    Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (boolValue (f x y))) False
   CLogic op t a b ->
     let eager = binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure $! O.logic op x y) False
      in case (pShortCircuit pol, t, op) of

@@ -129,12 +129,14 @@ intArith p op t mk lift = case op of
           Saturate -> Flagged (mk $! narrow (max wl (min wh exact))) True -- MT-OP-6
           Wrap -> Flagged (mk $! narrow (wrapIn wl wh exact)) True
           Trap -> Raised trapOverflow
+    {-# INLINE setsFlag #-}
     keepsFlag !exact
       | wl <= exact && exact <= wh = Plain (mk $! narrow exact)
       | otherwise = case overflow of
           Saturate -> Plain (mk $! narrow (max wl (min wh exact)))
           Wrap -> Plain (mk $! narrow (wrapIn wl wh exact))
           Trap -> Raised trapOverflow
+    {-# INLINE keepsFlag #-}
     -- under promote-32 the 32-bit result is narrowed to the type like an
     -- integer narrowing conversion (the identity under operand-type)
     !promoted = case pArithWidth p of
