@@ -86,7 +86,11 @@ ixOutput n = 1 + n
 -- FALSE, no steps used.
 newMachine :: CompiledModule -> IntMap Value -> Memory -> (Bool, Bool, Bool) -> ST s (Machine s)
 newMachine cm retained mem (o1, o2, o3) = do
-  d <- V.thaw (V.imap (\k def -> IM.findWithDefault def k retained) (cmDataDefaults cm))
+  d <-
+    V.thaw $
+      if IM.null retained
+        then cmDataDefaults cm
+        else V.imap (\k def -> IM.findWithDefault def k retained) (cmDataDefaults cm)
   f <- MV.replicate 0 (VBool False)
   fr <- newSTRef f
   mr <- newSTRef mem
@@ -110,10 +114,13 @@ snapshot :: Machine s -> ST s Snapshot
 snapshot m = do
   d <- V.freeze (mData m)
   mem <- readSTRef (mMemory m)
-  cs <- mapM (MU.read (mCounters m)) [0 .. 4]
-  case cs of
-    [steps, o, a, b, c] -> pure (Snapshot d mem (a /= 0, b /= 0, c /= 0) (o /= 0) steps)
-    _ -> pure (Snapshot d mem (False, False, False) False 0)
+  let counter = MU.unsafeRead (mCounters m)
+  steps <- counter ixSteps
+  o <- counter ixOverflow
+  a <- counter (ixOutput 1)
+  b <- counter (ixOutput 2)
+  c <- counter (ixOutput 3)
+  pure (Snapshot d mem (a /= 0, b /= 0, c /= 0) (o /= 0) steps)
 
 -- | Element @off@ of a variable in a snapshot; frame variables (no frame is
 -- active after a call) and INPUTn read their defaults.
