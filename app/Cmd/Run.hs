@@ -6,6 +6,7 @@ module Cmd.Run (command, PlcFile (..), readPlcFile) where
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
+import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (isDigit)
 import Data.Foldable (toList)
@@ -18,7 +19,7 @@ import qualified Data.Yaml as Y
 import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
 import System.Exit
-import System.IO (stderr)
+import System.IO (stderr, stdout)
 import Cmd.Common
 import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics
@@ -160,12 +161,19 @@ data RunSummary = RunSummary
   , rsLastCall :: Maybe CallResult
   }
 
+-- | One call's line. The common lines are built as bytes (ASCII); an error's
+-- message goes through the handle's text encoding, as the rest of the report.
 printCallText :: Int -> CallResult -> IO ()
-printCallText k r = TIO.putStr ("call " <> tshow k <> ": " <> callLine <> "\n")
+printCallText k r
+  | not (crExecuted r) = putBytes (prefix <> "not executed (INPUT1 is FALSE)\n")
+  | Just e <- crError r = putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> "\n")
+  | otherwise = putBytes (prefix <> "ok" <> steps <> "\n")
   where
-    callLine
-      | not (crExecuted r) = "not executed (INPUT1 is FALSE)"
-      | otherwise = maybe "ok" describeError (crError r) <> " (" <> tshow (crSteps r) <> " steps)"
+    prefix = "call " <> BB.intDec k <> ": "
+    steps = " (" <> BB.intDec (crSteps r) <> " steps)"
+
+putBytes :: BB.Builder -> IO ()
+putBytes = BB.hPutBuilder stdout
 
 textSummary :: PlcConfig -> RunSummary -> Text
 textSummary cfg summary =
@@ -186,8 +194,17 @@ signedM mem c = maybe 0 id (valueToInteger (readOperand mem (cellOperand c) INT)
 -- | One element of the JSON report's "calls" array, with the comma before
 -- every element but the first.
 printCallJson :: Int -> CallResult -> IO ()
-printCallJson k r = BL.putStr ((if k > 1 then "," else "") <> A.encode callJson)
+printCallJson k r = putBytes ((if k > 1 then "," else "") <> element)
   where
+    -- a call without an error, written directly: aeson's encoding of
+    -- callJson, keys in sorted order
+    element = case crError r of
+      Nothing ->
+        "{\"error\":null,\"executed\":" <> bool (crExecuted r) <> ",\"internal_overflow\":" <> bool (crOverflow r)
+          <> ",\"outputs\":" <> outputs (crOutputs r) <> ",\"steps\":" <> BB.intDec (crSteps r) <> "}"
+      Just _ -> BB.lazyByteString (A.encode callJson)
+    bool b = if b then "true" else "false"
+    outputs (a, b, c) = "{\"OUTPUT1\":" <> bool a <> ",\"OUTPUT2\":" <> bool b <> ",\"OUTPUT3\":" <> bool c <> "}"
     callJson =
       A.object
         [ "executed" A..= crExecuted r

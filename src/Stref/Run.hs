@@ -178,7 +178,9 @@ runModule setup cm calls = do
   let collect = \case
         CallsDone final -> Right ([], final)
         CallsFailed failure -> Left failure
-        CallStep r rest -> (\(rs, final) -> (r : rs, final)) <$> collect rest
+        -- each result's variables are read now, so that the kept results do
+        -- not keep every call's final state alive
+        CallStep r rest -> foldr (seq . snd) () (crVars r) `seq` (\(rs, final) -> (r : rs, final)) <$> collect rest
   (results, final) <- collect stream
   pure (RunOutcome cm st0 results final)
 
@@ -199,15 +201,19 @@ streamModule setup cm calls = do
   let st0 = initialPlcState {psMemory = mem0}
       go !st = \case
         [] -> CallsDone st
-        c : rest -> case traverse (declared setup) (csSet c) >> either (Left . BadSetting) Right (applySettings (csSet c) (psMemory st)) of
+        c : rest -> case settings c (psMemory st) of
           Left failure -> CallsFailed failure
           Right mem ->
             let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
-                (st', r) = runCompiled (rsPolicies setup) (rsPlc setup) cm compiled ci st {psMemory = mem}
+                (st', r) = call ci st {psMemory = mem}
              in st' `seq` CallStep r (go st' rest)
   pure (st0, go st0 calls)
   where
-    compiled = compileModule (rsPolicies setup) cm
+    -- translated and checked once for all the calls
+    call = runCompiledLazyVars (rsPolicies setup) (rsPlc setup) cm (compileModule (rsPolicies setup) cm)
+    settings c mem = case csSet c of
+      [] -> Right mem
+      sets -> traverse (declared setup) sets >> either (Left . BadSetting) Right (applySettings sets mem)
 
 declared :: RunSetup -> (Operand, Setting) -> Either RunFailure ()
 declared setup (o, _)
