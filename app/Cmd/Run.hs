@@ -143,16 +143,25 @@ data Tally = Tally
   , tFinal :: !PlcState
   }
 
--- | Print the calls one by one as the stream produces them.
-consumeCalls :: (Int -> CallResult -> IO ()) -> CallStream -> IO (Either RunFailure Tally)
-consumeCalls printCall = go 1 Nothing False
+-- | How a call is printed: bytes, which may wait to be written with those of
+-- the next calls, or an action.
+data CallOutput = Bytes BB.Builder | Direct (IO ())
+
+-- | Print the calls as the stream produces them, in batches of bytes.
+consumeCalls :: (Int -> CallResult -> CallOutput) -> CallStream -> IO (Either RunFailure Tally)
+consumeCalls render = go 1 mempty Nothing False
   where
-    go !k lastResult !failed = \case
+    go !k pending lastResult !failed = \case
       CallStep r rest -> do
-        printCall k r
-        go (k + 1) (Just r) (failed || crError r /= Nothing) rest
-      CallsDone final -> pure (Right (Tally lastResult failed final))
-      CallsFailed failure -> pure (Left failure)
+        pending' <- case render k r of
+          Bytes b
+            | k `mod` batch /= 0 -> pure (pending <> b)
+            | otherwise -> mempty <$ putBytes (pending <> b)
+          Direct act -> mempty <$ (putBytes pending >> act)
+        go (k + 1) pending' (Just r) (failed || crError r /= Nothing) rest
+      CallsDone final -> putBytes pending >> pure (Right (Tally lastResult failed final))
+      CallsFailed failure -> putBytes pending >> pure (Left failure)
+    batch = 256
 
 -- | The memory before the first call and after the last, and the last call.
 data RunSummary = RunSummary
@@ -163,11 +172,11 @@ data RunSummary = RunSummary
 
 -- | One call's line. The common lines are built as bytes (ASCII); an error's
 -- message goes through the handle's text encoding, as the rest of the report.
-printCallText :: Int -> CallResult -> IO ()
+printCallText :: Int -> CallResult -> CallOutput
 printCallText k r
-  | not (crExecuted r) = putBytes (prefix <> "not executed (INPUT1 is FALSE)\n")
-  | Just e <- crError r = putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> "\n")
-  | otherwise = putBytes (prefix <> "ok" <> steps <> "\n")
+  | not (crExecuted r) = Bytes (prefix <> "not executed (INPUT1 is FALSE)\n")
+  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> "\n"))
+  | otherwise = Bytes (prefix <> "ok" <> steps <> "\n")
   where
     prefix = "call " <> BB.intDec k <> ": "
     steps = " (" <> BB.intDec (crSteps r) <> " steps)"
@@ -193,8 +202,8 @@ signedM mem c = maybe 0 id (valueToInteger (readOperand mem (cellOperand c) INT)
 
 -- | One element of the JSON report's "calls" array, with the comma before
 -- every element but the first.
-printCallJson :: Int -> CallResult -> IO ()
-printCallJson k r = putBytes ((if k > 1 then "," else "") <> element)
+printCallJson :: Int -> CallResult -> CallOutput
+printCallJson k r = Bytes ((if k > 1 then "," else "") <> element)
   where
     -- a call without an error, written directly: aeson's encoding of
     -- callJson, keys in sorted order
