@@ -1,5 +1,6 @@
 -- | The command line as a user meets it: the built executable, its exit codes
--- (0 success, 1 a negative answer, 2 a usage error) and its output formats.
+-- (0 success, 1 a negative answer, 2 a usage error, 3 the last line of
+-- defence) and its output formats.
 -- Expected values come from the rules, not from earlier runs: 15000 + 25000
 -- on INT saturates to 32767 with INTERNAL_OVERFLOW (MT-OP-6, MT-OP-7); a
 -- division by zero is runtime error 2020 at the line of the division
@@ -12,7 +13,7 @@ import Data.Aeson (Value (..), decode)
 import qualified Data.Aeson.Key as Key
 import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString.Lazy.Char8 as BL
-import Data.List (isInfixOf)
+import Data.List (intercalate, isInfixOf)
 import qualified Data.Vector as V
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
@@ -111,6 +112,26 @@ spec = describe "the stref command line" $ do
       (j >>= field ["operands", "%M0012"]) `shouldBe` Just (Number 7)
       (j >>= field ["outputs", "OUTPUT1"]) `shouldBe` Just (Bool False)
 
+    -- bench/programs/scan.st: COUNT := COUNT + 1 saturates at 32767
+    -- (MT-OP-6); in the last call T = 32767 MOD 16 = 15, so the IF body is
+    -- skipped: five assignments and the IF test are 6 steps. A heap of 16 MB
+    -- holds the run only if the calls are not all kept until the end (they
+    -- were: 58 MB for 10^5 calls).
+    it "runs 10^5 calls in constant memory, as text" $ do
+      (code, out, err) <- stref ["run", "bench/programs/scan.st", "--calls", "100000", "+RTS", "-M16m", "-RTS"]
+      (code, err) `shouldBe` (ExitSuccess, "")
+      -- the calls, "operands changed:", four operands, outputs, diagnostics
+      length (lines out) `shouldBe` 100000 + 7
+      take 2 (drop 99999 (lines out)) `shouldBe` ["call 100000: ok (6 steps)", "operands changed:"]
+      lines out `shouldContain` ["  %M0200        32767  (16#7FFF)"]
+    it "runs 10^5 calls in constant memory, as JSON" $ do
+      (code, out, err) <- stref ["run", "bench/programs/scan.st", "--calls", "100000", "--format", "json", "+RTS", "-M16m", "-RTS"]
+      (code, err) `shouldBe` (ExitSuccess, "")
+      let j = decode (BL.pack out) :: Maybe Value
+      fmap (\case Array calls -> V.length calls; _ -> 0) (j >>= field ["calls"]) `shouldBe` Just 100000
+      (j >>= field ["operands", "%M0200"]) `shouldBe` Just (Number 32767)
+      (j >>= field ["vars", "SCAN.T"]) `shouldBe` Just (Number 15)
+
   describe "eval" $ do
     it "prints the variables and INTERNAL_OVERFLOW" $ do
       (code, out, _) <- stref ["eval", "VAR A, B : INT; END_VAR A := 32767; B := A + 1;"]
@@ -125,3 +146,19 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitSuccess
       let row = filter (\l -> "* A " `isInfixOf` l) (lines out)
       map words row `shouldBe` [["*", "A", "32767", "-32768", "32767"]]
+
+  describe "the last line of defence (exit 3)" $ do
+    -- a sum of 20,000 ones is a left spine 20,000 levels deep: accepted,
+    -- and its value is 20000 (no overflow on INT); with a stack of 100 KB
+    -- the runtime system throws a stack overflow, which main turns into
+    -- exit 3 with the advice of docs/robustness.md
+    let sumOfOnes = intercalate "+" (replicate 20000 "1")
+    it "evaluates the deep sum with the default stack" $ do
+      (code, out, _) <- stref ["eval", "--", sumOfOnes]
+      code `shouldBe` ExitSuccess
+      lines out `shouldContain` ["value = 20000 : INT"]
+    it "exits 3 with one line on stderr when the stack runs out" $ do
+      (code, out, err) <- stref ["+RTS", "-K100k", "-RTS", "eval", "--", sumOfOnes]
+      code `shouldBe` ExitFailure 3
+      out `shouldBe` ""
+      err `shouldBe` "stref: the input is too large or too deeply nested for the stack; raise the limit with +RTS -K<size> -RTS (e.g. -K2g)\n"

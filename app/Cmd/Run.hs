@@ -6,6 +6,7 @@ module Cmd.Run (command, PlcFile (..), readPlcFile) where
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
+import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (isDigit)
 import Data.Foldable (toList)
@@ -18,13 +19,12 @@ import qualified Data.Yaml as Y
 import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
 import System.Exit
-import System.IO (stderr)
+import System.IO (stderr, stdout)
 import Cmd.Common
 import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics
 import Stref.Execution
 import Stref.Operands
-import Stref.Policy (Policies)
 import Stref.Run
 import Stref.Types (BasicType (INT))
 import Stref.Values
@@ -107,14 +107,27 @@ run o = do
               chfOut = if null outs then pfChfOut plc else outs
               runSetup = RunSetup pol (pfConfig plc) kind (pfInit plc ++ sets)
               calls = replicate (optCalls o) (CallSpec inputs [] chfIn chfOut)
-          case runSource runSetup (optFile o) src calls of
+          case compileSource pol kind (optFile o) src >>= \cm -> streamModule runSetup cm calls of
             Left (BadSetting msg) -> usageError "run" msg
             Left failure -> do
               TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
               pure (ExitFailure 1)
-            Right outcome -> do
-              if fmtJson then BL.putStrLn (A.encode (jsonReport pol (pfConfig plc) outcome)) else TIO.putStr (textReport (pfConfig plc) outcome)
-              pure $ if any ((/= Nothing) . crError) (roResults outcome) then ExitFailure 1 else ExitSuccess
+            Right (initial, stream) -> do
+              -- the calls are printed as they happen, so that memory does
+              -- not grow with --calls
+              if fmtJson then BL.putStr "{\"calls\":[" else pure ()
+              ended <- consumeCalls (if fmtJson then printCallJson else printCallText) stream
+              case ended of
+                Left (BadSetting msg) -> usageError "run" msg
+                Left failure -> do
+                  TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
+                  pure (ExitFailure 1)
+                Right tally -> do
+                  let summary = RunSummary (psMemory initial) (psMemory (tFinal tally)) (tLast tally)
+                  if fmtJson
+                    then BL.putStrLn ("]," <> BL.drop 1 (A.encode (jsonSummary (pfConfig plc) summary)))
+                    else TIO.putStr (textSummary (pfConfig plc) summary)
+                  pure $ if tFailed tally then ExitFailure 1 else ExitSuccess
   where
     flag name = \case
       Nothing -> Right True
@@ -123,40 +136,85 @@ run o = do
 bandCells :: PlcConfig -> [Cell]
 bandCells cfg = map operandCell (diagnosticBand cfg)
 
-textReport :: PlcConfig -> RunOutcome -> Text
-textReport cfg outcome =
+-- | What a run leaves once its calls are printed.
+data Tally = Tally
+  { tLast :: !(Maybe CallResult)
+  , tFailed :: !Bool -- ^ some call ended in a runtime error
+  , tFinal :: !PlcState
+  }
+
+-- | How a call is printed: bytes, which may wait to be written with those of
+-- the next calls, or an action.
+data CallOutput = Bytes BB.Builder | Direct (IO ())
+
+-- | Print the calls as the stream produces them, in batches of bytes.
+consumeCalls :: (Int -> CallResult -> CallOutput) -> CallStream -> IO (Either RunFailure Tally)
+consumeCalls render = go 1 mempty Nothing False
+  where
+    go !k pending lastResult !failed = \case
+      CallStep r rest -> do
+        pending' <- case render k r of
+          Bytes b
+            | k `mod` batch /= 0 -> pure (pending <> b)
+            | otherwise -> mempty <$ putBytes (pending <> b)
+          Direct act -> mempty <$ (putBytes pending >> act)
+        go (k + 1) pending' (Just r) (failed || crError r /= Nothing) rest
+      CallsDone final -> putBytes pending >> pure (Right (Tally lastResult failed final))
+      CallsFailed failure -> putBytes pending >> pure (Left failure)
+    batch = 256
+
+-- | The memory before the first call and after the last, and the last call.
+data RunSummary = RunSummary
+  { rsBefore :: Memory
+  , rsAfter :: Memory
+  , rsLastCall :: Maybe CallResult
+  }
+
+-- | One call's line. The common lines are built as bytes (ASCII); an error's
+-- message goes through the handle's text encoding, as the rest of the report.
+printCallText :: Int -> CallResult -> CallOutput
+printCallText k r
+  | not (crExecuted r) = Bytes (prefix <> "not executed (INPUT1 is FALSE)\n")
+  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> "\n"))
+  | otherwise = Bytes (prefix <> "ok" <> steps <> "\n")
+  where
+    prefix = "call " <> BB.intDec k <> ": "
+    steps = " (" <> BB.intDec (crSteps r) <> " steps)"
+
+putBytes :: BB.Builder -> IO ()
+putBytes = BB.hPutBuilder stdout
+
+textSummary :: PlcConfig -> RunSummary -> Text
+textSummary cfg summary =
   T.unlines $
-    [ "call " <> tshow k <> ": " <> callLine r | (k, r) <- zip [1 :: Int ..] (roResults outcome)]
-      ++ ["operands changed:"]
+    ["operands changed:"]
       ++ (if null changed then ["  (none)"] else ["  " <> T.justifyLeft 14 ' ' (renderOperand (cellOperand c)) <> cellText after c | (c, _, _) <- changed])
       ++ [ "outputs: " <> T.unwords ["OUTPUT" <> tshow i <> "=" <> showValue (VBool b) | (i, b) <- zip [1 :: Int ..] (outputsList lastOutputs)]
          , "diagnostics " <> renderOperand (OpSimple KM (plcDiagnostics cfg)) <> "..: " <> T.unwords [tshow (signedM after c) | c <- bandCells cfg]
          ]
   where
-    after = psMemory (roFinal outcome)
-    changed = [ch | ch@(c, _, _) <- changedCells cfg (psMemory (roInitial outcome)) after, c `notElem` bandCells cfg]
-    lastOutputs = maybe (False, False, False) crOutputs (lastMaybe (roResults outcome))
-    callLine r
-      | not (crExecuted r) = "not executed (INPUT1 is FALSE)"
-      | otherwise = maybe "ok" describeError (crError r) <> " (" <> tshow (crSteps r) <> " steps)"
+    after = rsAfter summary
+    changed = [ch | ch@(c, _, _) <- changedCells cfg (rsBefore summary) after, c `notElem` bandCells cfg]
+    lastOutputs = maybe (False, False, False) crOutputs (rsLastCall summary)
 
 signedM :: Memory -> Cell -> Integer
 signedM mem c = maybe 0 id (valueToInteger (readOperand mem (cellOperand c) INT))
 
-jsonReport :: Policies -> PlcConfig -> RunOutcome -> A.Value
-jsonReport _ cfg outcome =
-  A.object
-    [ "calls" A..= map callJson (roResults outcome)
-    , "operands" A..= A.object [K.fromText (renderOperand (cellOperand c)) A..= valueJson (observeOperand after (cellOperand c)) | (c, _, _) <- changed]
-    , "outputs" A..= outputsJson (maybe (False, False, False) crOutputs (lastMaybe (roResults outcome)))
-    , "diagnostics" A..= [signedM after c | c <- bandCells cfg]
-    , "error" A..= (errorJson <$> (lastMaybe (roResults outcome) >>= crError))
-    , "vars" A..= A.object [K.fromText n A..= valueJson v | (n, v) <- maybe [] crVars (lastMaybe (roResults outcome))]
-    ]
+-- | One element of the JSON report's "calls" array, with the comma before
+-- every element but the first.
+printCallJson :: Int -> CallResult -> CallOutput
+printCallJson k r = Bytes ((if k > 1 then "," else "") <> element)
   where
-    after = psMemory (roFinal outcome)
-    changed = [ch | ch@(c, _, _) <- changedCells cfg (psMemory (roInitial outcome)) after, c `notElem` bandCells cfg]
-    callJson r =
+    -- a call without an error, written directly: aeson's encoding of
+    -- callJson, keys in sorted order
+    element = case crError r of
+      Nothing ->
+        "{\"error\":null,\"executed\":" <> bool (crExecuted r) <> ",\"internal_overflow\":" <> bool (crOverflow r)
+          <> ",\"outputs\":" <> outputs (crOutputs r) <> ",\"steps\":" <> BB.intDec (crSteps r) <> "}"
+      Just _ -> BB.lazyByteString (A.encode callJson)
+    bool b = if b then "true" else "false"
+    outputs (a, b, c) = "{\"OUTPUT1\":" <> bool a <> ",\"OUTPUT2\":" <> bool b <> ",\"OUTPUT3\":" <> bool c <> "}"
+    callJson =
       A.object
         [ "executed" A..= crExecuted r
         , "error" A..= (errorJson <$> crError r)
@@ -164,15 +222,30 @@ jsonReport _ cfg outcome =
         , "steps" A..= crSteps r
         , "internal_overflow" A..= crOverflow r
         ]
-    errorJson (RuntimeError code line (a, b, c)) = A.object ["code" A..= code, "line" A..= line, "comp" A..= [a, b, c]]
-    outputsJson (a, b, c) = A.object ["OUTPUT1" A..= a, "OUTPUT2" A..= b, "OUTPUT3" A..= c]
+
+-- | The JSON report without its "calls": the keys are encoded in sorted
+-- order, so "calls" comes first and is printed before this object's keys.
+jsonSummary :: PlcConfig -> RunSummary -> A.Value
+jsonSummary cfg summary =
+  A.object
+    [ "operands" A..= A.object [K.fromText (renderOperand (cellOperand c)) A..= valueJson (observeOperand after (cellOperand c)) | (c, _, _) <- changed]
+    , "outputs" A..= outputsJson (maybe (False, False, False) crOutputs (rsLastCall summary))
+    , "diagnostics" A..= [signedM after c | c <- bandCells cfg]
+    , "error" A..= (errorJson <$> (rsLastCall summary >>= crError))
+    , "vars" A..= A.object [K.fromText n A..= valueJson v | (n, v) <- maybe [] crVars (rsLastCall summary)]
+    ]
+  where
+    after = rsAfter summary
+    changed = [ch | ch@(c, _, _) <- changedCells cfg (rsBefore summary) after, c `notElem` bandCells cfg]
+
+errorJson :: RuntimeError -> A.Value
+errorJson (RuntimeError code line (a, b, c)) = A.object ["code" A..= code, "line" A..= line, "comp" A..= [a, b, c]]
+
+outputsJson :: (Bool, Bool, Bool) -> A.Value
+outputsJson (a, b, c) = A.object ["OUTPUT1" A..= a, "OUTPUT2" A..= b, "OUTPUT3" A..= c]
 
 outputsList :: (Bool, Bool, Bool) -> [Bool]
 outputsList (a, b, c) = [a, b, c]
-
-lastMaybe :: [a] -> Maybe a
-lastMaybe [] = Nothing
-lastMaybe xs = Just (last xs)
 
 tshow :: Show a => a -> Text
 tshow = T.pack . show
@@ -258,8 +331,9 @@ settingFromJson = \case
       (ds, r) -> [(foldl (\acc d -> acc * 16 + toInteger (hexDigit d)) 0 ds, r)]
     hexDigit d = length (takeWhile (/= d) "0123456789abcdef")
 
--- | The results of every call are kept until the end (they are printed
--- together), so their number is bounded (docs/robustness.md).
+-- | The calls are printed as they happen and need constant memory; their
+-- number is bounded so that a mistyped count does not run for hours
+-- (docs/robustness.md).
 maxCalls :: Int
 maxCalls = 1000000
 

@@ -1,3 +1,5 @@
+{-# LANGUAGE RankNTypes #-}
+
 -- | One module call (MT-EXEC-9): the pure function from the checked module,
 -- the controller's state and the call's inputs to the new state, the output
 -- signals and the diagnostics.
@@ -33,6 +35,7 @@ module Stref.Execution
   , CompiledModule
   , compileModule
   , runCompiled
+  , runCompiledLazyVars
   , checkMappedOperands
   , checkChfParameters
   , ParamSource (..)
@@ -48,6 +51,7 @@ import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
 import qualified Data.Vector as V
+import Data.Word (Word16, Word32)
 import Stref.Checked
 import Stref.Diagnostics
 import Stref.Eval
@@ -103,9 +107,43 @@ runCall :: Policies -> PlcConfig -> CModule -> CallInput -> PlcState -> (PlcStat
 runCall pol cfg cm = runCompiled pol cfg cm (compileModule pol cm)
 
 -- | 'runCall' with a module translated beforehand by 'compileModule' under
--- the same policies (for many calls of one module).
+-- the same policies (for many calls of one module). Applied to its first
+-- four arguments, it checks the mapped operands once for all the calls.
 runCompiled :: Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCompiled pol cfg cm compiled ci st
+runCompiled = runCompiledWith True
+
+-- | 'runCompiled' whose 'crVars' are read from the call's final state only
+-- when they are looked at: cheaper when only some calls are observed (the
+-- command line reports the last call's), but a result kept unobserved keeps
+-- that state alive.
+runCompiledLazyVars :: Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
+runCompiledLazyVars = runCompiledWith False
+
+runCompiledWith :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
+runCompiledWith eagerVars pol cfg cm compiled = \ci st ->
+  let (input1, _, _) = ciInputs ci
+      checks = do
+        mappedChecked
+        -- no CHF arguments (every call of a P module): the same answer each time
+        case (ciChfIn ci, ciChfOut ci) of
+          ([], []) -> noParameters
+          (ins, outs) -> checkChfParameters lineBefore cfg prog ins outs
+   in runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
+  where
+    -- what does not depend on the call: checked once
+    mappedChecked = checkMappedOperands lineBefore cfg (cmMapped cm)
+    noParameters = checkChfParameters lineBefore cfg prog [] []
+    prog = cmProgram cm
+    lineBefore = pErrorLineBeforeStart pol -- A2
+    band = bandCells cfg
+    -- the initialisation of the data area, translated once
+    initialiseData :: Exec s ()
+    initialiseData = do
+      mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
+      mapM_ initVar (cmInits cm)
+
+runChecked :: Bool -> Policies -> CModule -> CompiledModule -> (forall s. Exec s ()) -> [Cell] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
+runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
       -- stay off and nothing else changes (not even the diagnostics)
@@ -130,7 +168,6 @@ runCompiled pol cfg cm compiled ci st
       pure $ case r of
         Done _ -> finish (keep sn) (Right ()) (copyBack sources sn)
         Failed err -> finish (keep sn) (Left err) sn
-    (input1, _, _) = ciInputs ci
     env = Env (ciInputs ci) 0
     prog = cmProgram cm
     firstCall = case psRetained st of
@@ -139,17 +176,9 @@ runCompiled pol cfg cm compiled ci st
     retainedData = case (pLifetime pol, psRetained st) of
       (Retained, Just d) -> d
       _ -> IM.empty
-    lineBefore = pErrorLineBeforeStart pol -- A2
-    checks = do
-      checkMappedOperands lineBefore cfg (cmMapped cm)
-      checkChfParameters lineBefore cfg prog (ciChfIn ci) (ciChfOut ci)
     initialise = pLifetime pol == PerCall || firstCall
     prepare sources = do
-      if initialise
-        then do
-          mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
-          mapM_ initVar (cmInits cm)
-        else pure ()
+      if initialise then initialiseData else pure ()
       -- VAR_INPUT and VAR_IN_OUT: copied in on every call (MT-PARAM-3, MT-PARAM-5)
       memory <- getMemory
       mapM_ (copyIn memory) (zip (cpInputs prog ++ cpInOuts prog) sources)
@@ -173,10 +202,10 @@ runCompiled pol cfg cm compiled ci st
       Retained -> Just (IM.fromDistinctAscList (zip [0 ..] (V.toList (snData sn))))
       PerCall -> Nothing
     finish retained result sn =
-      let (band, err, outs) = case result of
+      let (values, err, outs) = case result of
             Right () -> (noErrorBand, Nothing, snOutputs sn)
             Left e -> (errorBand e, Just e, clearOutput1 (snOutputs sn))
-          mem' = writeDiagnostics cfg band (snMemory sn)
+          mem' = writeBand band values (snMemory sn)
           sn' = sn {snMemory = mem', snOutputs = outs}
           st' =
             PlcState
@@ -186,7 +215,7 @@ runCompiled pol cfg cm compiled ci st
           vars = namedValues env sn' cm
        in -- the observed values are taken now, so that a long run of calls
           -- does not keep every call's machine alive
-          forceVars vars `seq` (st', CallResult outs err vars (snSteps sn') True (snOverflow sn'))
+          (if eagerVars then forceVars vars else ()) `seq` (st', CallResult outs err vars (snSteps sn') True (snOverflow sn'))
     clearOutput1 (_, b, c) = (False, b, c)
 
 forceVars :: [(Text, Value)] -> ()
@@ -209,8 +238,23 @@ diagnosticBand :: PlcConfig -> [Operand]
 diagnosticBand cfg = [OpSimple KM (plcDiagnostics cfg + i) | i <- [0 .. 4]]
 
 writeDiagnostics :: PlcConfig -> [Int] -> Memory -> Memory
-writeDiagnostics cfg band mem =
-  foldl' (\m (op, x) -> writeOperand op (integerToValue INT (toInteger x)) m) mem (zip (diagnosticBand cfg) band)
+writeDiagnostics cfg = writeBand (bandCells cfg)
+
+bandCells :: PlcConfig -> [Cell]
+bandCells cfg = map operandCell (diagnosticBand cfg)
+
+-- | Write the band's values as INT into its cells.
+writeBand :: [Cell] -> [Int] -> Memory -> Memory
+writeBand cells band mem = foldl' write mem (zip cells band)
+  where
+    -- the INT's 16-bit pattern; a cell already written with it is left as
+    -- it is, the memory being the same (most calls write the band of the
+    -- call before)
+    write m (cell, x) =
+      let bits = fromIntegral (fromIntegral x :: Word16) :: Word32
+       in case lookupCell m cell of
+            Just old | old == bits -> m
+            _ -> writeCell cell bits m
 
 --------------------------------------------------------------------------------
 -- Checks before the first statement

@@ -28,6 +28,7 @@ module Stref.Operands
   , Memory
   , emptyMemory
   , readCell
+  , lookupCell
   , writeCell
   , readOperand
   , writeOperand
@@ -282,6 +283,11 @@ emptyMemory = Memory M.empty
 
 readCell :: Memory -> Cell -> Word32
 readCell (Memory m) c = M.findWithDefault 0 c m
+
+-- | The pattern of a cell that has been written, if it has.
+lookupCell :: Memory -> Cell -> Maybe Word32
+lookupCell (Memory m) c = M.lookup c m
+{-# INLINE lookupCell #-}
 
 writeCell :: Cell -> Word32 -> Memory -> Memory
 writeCell c w (Memory m) = Memory (M.insert c (w .&. mask) m)

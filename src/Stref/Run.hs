@@ -16,6 +16,8 @@ module Stref.Run
   , RunOutcome (..)
   , compileSource
   , runModule
+  , CallStream (..)
+  , streamModule
   , runSource
     -- * Observing
   , observeOperand
@@ -167,26 +169,56 @@ compileSource pol kind file src = do
 checked :: Policies -> ModuleKind -> Module Pos -> Either RunFailure CModule
 checked pol kind m = either (Left . Rejected) Right (checkModule pol kind m)
 
--- | Run the calls of a checked module, in order.
+-- | Run the calls of a checked module, in order. Every operand a call
+-- writes is checked to be declared before the first call.
 runModule :: RunSetup -> CModule -> [CallSpec] -> Either RunFailure RunOutcome
 runModule setup cm calls = do
-  mapM_ declared (rsInit setup ++ concatMap csSet calls)
+  mapM_ (declared setup) (rsInit setup ++ concatMap csSet calls)
+  (st0, stream) <- streamModule setup cm calls
+  let collect = \case
+        CallsDone final -> Right ([], final)
+        CallsFailed failure -> Left failure
+        -- each result's variables are read now, so that the kept results do
+        -- not keep every call's final state alive
+        CallStep r rest -> foldr (seq . snd) () (crVars r) `seq` (\(rs, final) -> (r : rs, final)) <$> collect rest
+  (results, final) <- collect stream
+  pure (RunOutcome cm st0 results final)
+
+-- | The results of a run as the calls happen: consumed once, in order, a
+-- run of any length needs constant memory (the command line's @--calls@).
+data CallStream
+  = CallStep !CallResult CallStream
+  | CallsDone !PlcState -- ^ the state after the last call
+  | CallsFailed RunFailure -- ^ a call's operand setting does not fit
+
+-- | 'runModule' one call at a time: the state before the first call and the
+-- calls' results. The operands a call writes are checked when its turn
+-- comes.
+streamModule :: RunSetup -> CModule -> [CallSpec] -> Either RunFailure (PlcState, CallStream)
+streamModule setup cm calls = do
+  mapM_ (declared setup) (rsInit setup)
   mem0 <- either (Left . BadSetting) Right (applySettings (rsInit setup) emptyMemory)
   let st0 = initialPlcState {psMemory = mem0}
-      go st [] = Right (st, [])
-      go st (c : rest) = do
-        mem <- either (Left . BadSetting) Right (applySettings (csSet c) (psMemory st))
-        let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
-            (st', r) = runCompiled (rsPolicies setup) (rsPlc setup) cm compiled ci st {psMemory = mem}
-        (stN, rs) <- go st' rest
-        pure (stN, r : rs)
-  (final, results) <- go st0 calls
-  pure (RunOutcome cm st0 results final)
+      go !st = \case
+        [] -> CallsDone st
+        c : rest -> case settings c (psMemory st) of
+          Left failure -> CallsFailed failure
+          Right mem ->
+            let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
+                (st', r) = call ci st {psMemory = mem}
+             in st' `seq` CallStep r (go st' rest)
+  pure (st0, go st0 calls)
   where
-    compiled = compileModule (rsPolicies setup) cm
-    declared (o, _)
-      | cellDeclared (rsPlc setup) (operandCell o) = Right ()
-      | otherwise = Left (BadSetting (renderOperand o <> " is not declared in the controller's configuration"))
+    -- translated and checked once for all the calls
+    call = runCompiledLazyVars (rsPolicies setup) (rsPlc setup) cm (compileModule (rsPolicies setup) cm)
+    settings c mem = case csSet c of
+      [] -> Right mem
+      sets -> traverse (declared setup) sets >> either (Left . BadSetting) Right (applySettings sets mem)
+
+declared :: RunSetup -> (Operand, Setting) -> Either RunFailure ()
+declared setup (o, _)
+  | cellDeclared (rsPlc setup) (operandCell o) = Right ()
+  | otherwise = Left (BadSetting (renderOperand o <> " is not declared in the controller's configuration"))
 
 -- | Parse, check and run.
 runSource :: RunSetup -> FilePath -> Text -> [CallSpec] -> Either RunFailure RunOutcome
