@@ -8,7 +8,9 @@ import Options.Applicative
 import System.Environment (getArgs, getProgName)
 import Control.Exception (AsyncException (..), SomeException, fromException, try)
 import System.Exit
-import System.IO (hPutStrLn, stderr)
+import System.IO (hFlush, hPutStrLn, stderr, stdout)
+import System.IO.Error (ioeGetErrorType, ioeGetHandle)
+import GHC.IO.Exception (IOErrorType (ResourceVanished))
 import qualified Stref
 import qualified Cmd.Check
 import qualified Cmd.Conformance
@@ -36,7 +38,7 @@ main = do
           (fullDesc <> progDesc "Executable reference semantics of IEC 61131-3 Structured Text" <> header "stref - ST reference interpreter and conformance runner")
       versionOption = infoOption ("stref " ++ Stref.version) (long "version" <> help "Print the version")
   case execParserPure (prefs (showHelpOnEmpty <> showHelpOnError)) opts args of
-    Success act -> try act >>= either lastDefence exitWith
+    Success act -> try (act <* hFlush stdout) >>= either lastDefence exitWith
     Failure f -> do
       let (msg, code) = renderFailure f prog
       case code of
@@ -56,6 +58,12 @@ lastDefence e
       failWith "the input is too large or too deeply nested for the stack; raise the limit with +RTS -K<size> -RTS (e.g. -K2g)"
   | Just HeapOverflow <- fromException e = failWith "out of memory"
   | Just UserInterrupt <- fromException e = exitWith (ExitFailure 130)
+  -- the reader of the output went away (@stref run ... | head@): stop
+  -- quietly, with the status of a process ended by SIGPIPE
+  | Just ioe <- fromException e
+  , ioeGetErrorType ioe == ResourceVanished
+  , ioeGetHandle ioe == Just stdout =
+      exitWith (ExitFailure 141)
   | otherwise = failWith ("internal error: " <> show e <> "; please report it with the input that caused it")
   where
     failWith msg = hPutStrLn stderr ("stref: " <> msg) >> exitWith (ExitFailure 3)

@@ -17,7 +17,9 @@ import Data.List (intercalate, isInfixOf)
 import qualified Data.Vector as V
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
-import System.Process (readProcessWithExitCode)
+import Control.Exception (evaluate)
+import System.IO (hClose, hGetContents, hGetLine)
+import System.Process (CreateProcess (..), StdStream (..), createProcess, proc, readProcessWithExitCode, waitForProcess)
 import Test.Hspec
 
 fixture :: FilePath -> FilePath
@@ -146,6 +148,23 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitSuccess
       let row = filter (\l -> "* A " `isInfixOf` l) (lines out)
       map words row `shouldBe` [["*", "A", "32767", "-32768", "32767"]]
+
+  describe "a reader that goes away" $
+    -- 10^5 call lines are far more than a pipe holds, so stref is still
+    -- writing when the reader closes its end: it must stop quietly with the
+    -- status of SIGPIPE (docs/robustness.md), not report an internal error
+    it "ends stref quietly with exit status 141" $ do
+      bin <- strefBinary
+      (_, Just out, Just err, ph) <-
+        createProcess (proc bin ["run", "bench/programs/scan.st", "--calls", "100000"]) {std_out = CreatePipe, std_err = CreatePipe}
+      firstLine <- hGetLine out
+      hClose out
+      errText <- hGetContents err
+      _ <- evaluate (length errText)
+      code <- waitForProcess ph
+      firstLine `shouldBe` "call 1: ok (6 steps)"
+      code `shouldBe` ExitFailure 141
+      errText `shouldBe` ""
 
   describe "the last line of defence (exit 3)" $ do
     -- a sum of 20,000 ones is a left spine 20,000 levels deep: accepted,

@@ -36,7 +36,7 @@ module Stref.Operands
   , cellCells
   ) where
 
-import Data.Bits (clearBit, setBit, testBit, (.&.))
+import Data.Bits (clearBit, setBit, shiftL, testBit, (.&.))
 import Data.Char (isDigit, isSpace, toUpper)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
@@ -292,7 +292,34 @@ lookupCell (Memory m) c = M.lookup c m
 writeCell :: Cell -> Word32 -> Memory -> Memory
 writeCell c w (Memory m) = Memory (M.insert c (w .&. mask) m)
   where
-    mask = if cellWidth c >= 32 then maxBound else (2 ^ cellWidth c) - 1
+    width = cellWidth c
+    mask = if width >= 32 then maxBound else (1 `shiftL` width) - 1
+
+-- | The value of an integer type held by a cell's pattern: its low bits
+-- ('integerToValue' of the pattern, without an 'Integer').
+wordToValue :: BasicType -> Word32 -> Value
+wordToValue t w = case t of
+  BOOL -> VBool (w /= 0)
+  BYTE -> VByte (fromIntegral w)
+  WORD -> VWord (fromIntegral w)
+  DWORD -> VDWord w
+  USINT -> VUSInt (fromIntegral w)
+  INT -> VInt (fromIntegral w)
+  DINT -> VDInt (fromIntegral w)
+  REAL -> VReal (fromIntegral w)
+
+-- | The pattern of an integer value: its low 32 bits (two's complement for
+-- a negative number, as 'valueToInteger' modulo 2^32).
+valueToWord :: Value -> Word32
+valueToWord = \case
+  VBool b -> if b then 1 else 0
+  VByte x -> fromIntegral x
+  VWord x -> fromIntegral x
+  VDWord x -> x
+  VUSInt x -> fromIntegral x
+  VInt x -> fromIntegral x
+  VDInt x -> fromIntegral x
+  VReal _ -> 0 -- never: REAL is written by its bits above
 
 -- | Read a variable of the given type mapped onto the operand.
 readOperand :: Memory -> Operand -> BasicType -> Value
@@ -300,7 +327,7 @@ readOperand mem op t = case op of
   OpBit _ _ b -> VBool (testBit (readCell mem (operandCell op)) b)
   _ ->
     let w = readCell mem (operandCell op)
-     in if t == REAL then VReal (realFromBits w) else integerToValue t (fromIntegral w)
+     in if t == REAL then VReal (realFromBits w) else wordToValue t w
 
 -- | Write a value through an operand: a bit changes only its bit.
 writeOperand :: Operand -> Value -> Memory -> Memory
@@ -310,5 +337,5 @@ writeOperand op v mem = case (op, v) of
         w = readCell mem c
      in writeCell c (if x then setBit w b else clearBit w b) mem
   (_, VReal r) -> writeCell (operandCell op) (realBits r) mem
-  _ -> writeCell (operandCell op) (maybe 0 fromInteger (valueToInteger v)) mem
+  _ -> writeCell (operandCell op) (valueToWord v) mem
 
