@@ -1,3 +1,5 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
 -- | The meaning of checked expressions and statements (catalogue §§ 5, 6, 8).
 --
 -- Denotational style: every 'CExpr' and 'CStmt' is translated ONCE into a

@@ -1,3 +1,5 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
 {-# LANGUAGE RankNTypes #-}
 
 -- | One module call (MT-EXEC-9): the pure function from the checked module,

@@ -1,3 +1,5 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
 -- | PLC operands (catalogue §7.3, Tables 2-3 and 4-8): which operands the
 -- language knows, which types may be mapped onto them, the controller's
 -- configuration (which operands are declared) and its memory.

@@ -1,3 +1,5 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
 -- | Operators (catalogue §5, Tables 4-10 to 4-13) and EXPT (MT-OP-20): the
 -- meaning of each operator on values, under the policies. docs/numeric.md
 -- explains every choice.

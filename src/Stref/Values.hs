@@ -1,3 +1,5 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
 -- | Run-time values with the exact width of their type (MT-TYPE-1). REAL is
 -- IEEE binary32: a Haskell 'Float', whose arithmetic GHC performs in single
 -- precision, so every operation rounds to binary32 (never via Double).

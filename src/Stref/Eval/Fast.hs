@@ -1,3 +1,5 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
 -- | Fast paths of the operators for the common operand types, with exactly
 -- the results of "Stref.Operators" and "Stref.Conversions" (the reference;
 -- test/FastSpec.hs checks the equality on random values under every
