@@ -13,7 +13,7 @@ import qualified Data.Text as T
 import qualified Data.Text.Encoding as TE
 import System.CPUTime (getCPUTime)
 import System.Mem (performGC)
-import System.Directory (doesDirectoryExist, doesPathExist, listDirectory, removeFile)
+import System.Directory (doesDirectoryExist, doesPathExist, getTemporaryDirectory, listDirectory, removeFile)
 import System.IO (hClose, openTempFile)
 import Test.Hspec
 import Test.QuickCheck
@@ -176,7 +176,9 @@ spec = do
       r <- runExternal "yes" 10 100000 ""
       r `shouldSatisfy` either ("exceeds 100000 bytes" `T.isInfixOf`) (const False)
     it "an engine that does not answer in time is killed with its children" $ do
-      (path, h) <- openTempFile "." "robust-pid"
+      -- in the system's temporary directory, never in the working tree
+      tmp <- getTemporaryDirectory
+      (path, h) <- openTempFile tmp "robust-pid"
       hClose h
       r <- runExternal ("sleep 60 & echo $! > " <> path <> "; wait") 1 1000 ""
       r `shouldSatisfy` either ("no answer within" `T.isInfixOf`) (const False)
