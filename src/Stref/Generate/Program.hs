@@ -947,65 +947,56 @@ shrinkStmt = \case
     replaceAt i x xs = take i xs ++ [x] ++ drop (i + 1) xs
     exactDefinite t e = texprType e == t && not (isIntLiteral e) && not (isWidened e)
 
+-- | A name as a statement or expression mentions it: a variable (read,
+-- written or indexed) or a called function.
+data Mention = Variable Text | Called Text
+
+mentionName :: Mention -> Text
+mentionName = \case
+  Variable v -> v
+  Called f -> f
+
+-- | Every mention in a module's bodies, in one walk (the functions' first).
+moduleMentions :: GenModule -> [Mention]
+moduleMentions gm = concatMap (concatMap stmtMentions . gfBody) (gmFunctions gm) ++ concatMap stmtMentions (gpBody (gmProgram gm))
+
+stmtMentions :: GStmt -> [Mention]
+stmtMentions = \case
+  GAssign v _ e -> Variable v : exprMentions e
+  GAssignIndex a _ i e -> Variable a : exprMentions i ++ exprMentions e
+  GCall f args -> Called f : concatMap exprMentions args
+  GIf arms els -> concat [exprMentions c ++ body b | (c, b) <- arms] ++ maybe [] body els
+  GCase sel arms els -> exprMentions sel ++ concatMap (body . snd) arms ++ maybe [] body els
+  GFor _ _ _ _ _ b -> body b
+  GForVar _ _ _ e _ _ b -> Variable e : body b
+  GWhile _ _ c b -> exprMentions c ++ body b
+  GRepeat _ _ c b -> exprMentions c ++ body b
+  _ -> []
+  where
+    body = concatMap stmtMentions
+
+exprMentions :: TExpr -> [Mention]
+exprMentions = \case
+  TVar _ v -> [Variable v]
+  TCall _ f args -> Called f : concatMap exprMentions args
+  TIndex _ a i -> Variable a : exprMentions i
+  TWiden _ _ e -> exprMentions e
+  TConv _ _ e -> exprMentions e
+  TNeg _ e -> exprMentions e
+  TNot _ e -> exprMentions e
+  TArith _ _ a b -> exprMentions a ++ exprMentions b
+  TCmp _ _ a b -> exprMentions a ++ exprMentions b
+  TLogic _ _ a b -> exprMentions a ++ exprMentions b
+  TExpt _ a b -> exprMentions a ++ exprMentions b
+  _ -> []
+
 -- | Every name read, written or called anywhere in the module.
 usedNames :: GenModule -> [Text]
-usedNames gm = nub (concatMap (concatMap stmtNames . gfBody) (gmFunctions gm) ++ concatMap stmtNames (gpBody (gmProgram gm)))
-  where
-    stmtNames = \case
-      GAssign v _ e -> v : exprNames e
-      GAssignIndex a _ i e -> a : exprNames i ++ exprNames e
-      GCall f args -> f : concatMap exprNames args
-      GIf arms els -> concat [exprNames c ++ concatMap stmtNames b | (c, b) <- arms] ++ maybe [] (concatMap stmtNames) els
-      GCase sel arms els -> exprNames sel ++ concatMap (concatMap stmtNames . snd) arms ++ maybe [] (concatMap stmtNames) els
-      GFor _ _ _ _ _ b -> concatMap stmtNames b
-      GForVar _ _ _ e _ _ b -> e : concatMap stmtNames b
-      GWhile _ _ c b -> exprNames c ++ concatMap stmtNames b
-      GRepeat _ _ c b -> exprNames c ++ concatMap stmtNames b
-      _ -> []
-    exprNames = \case
-      TVar _ v -> [v]
-      TCall _ f args -> f : concatMap exprNames args
-      TIndex _ a i -> a : exprNames i
-      TWiden _ _ e -> exprNames e
-      TConv _ _ e -> exprNames e
-      TNeg _ e -> exprNames e
-      TNot _ e -> exprNames e
-      TArith _ _ a b -> exprNames a ++ exprNames b
-      TCmp _ _ a b -> exprNames a ++ exprNames b
-      TLogic _ _ a b -> exprNames a ++ exprNames b
-      TExpt _ a b -> exprNames a ++ exprNames b
-      _ -> []
+usedNames = nub . map mentionName . moduleMentions
 
 -- | Names of the functions called anywhere in the module.
 calledNames :: GenModule -> [Text]
-calledNames gm = concatMap (concatMap stmtCalls . gfBody) (gmFunctions gm) ++ concatMap stmtCalls (gpBody (gmProgram gm))
-
-stmtCalls :: GStmt -> [Text]
-stmtCalls = \case
-  GAssign _ _ e -> exprCalls e
-  GAssignIndex _ _ i e -> exprCalls i ++ exprCalls e
-  GCall f args -> f : concatMap exprCalls args
-  GIf arms els -> concat [exprCalls c ++ concatMap stmtCalls b | (c, b) <- arms] ++ maybe [] (concatMap stmtCalls) els
-  GCase sel arms els -> exprCalls sel ++ concatMap (concatMap stmtCalls . snd) arms ++ maybe [] (concatMap stmtCalls) els
-  GFor _ _ _ _ _ b -> concatMap stmtCalls b
-  GForVar _ _ _ _ _ _ b -> concatMap stmtCalls b
-  GWhile _ _ c b -> exprCalls c ++ concatMap stmtCalls b
-  GRepeat _ _ c b -> exprCalls c ++ concatMap stmtCalls b
-  _ -> []
-
-exprCalls :: TExpr -> [Text]
-exprCalls = \case
-  TCall _ f args -> f : concatMap exprCalls args
-  TIndex _ _ i -> exprCalls i
-  TWiden _ _ e -> exprCalls e
-  TConv _ _ e -> exprCalls e
-  TNeg _ e -> exprCalls e
-  TNot _ e -> exprCalls e
-  TArith _ _ a b -> exprCalls a ++ exprCalls b
-  TCmp _ _ a b -> exprCalls a ++ exprCalls b
-  TLogic _ _ a b -> exprCalls a ++ exprCalls b
-  TExpt _ a b -> exprCalls a ++ exprCalls b
-  _ -> []
+calledNames gm = [f | Called f <- moduleMentions gm]
 
 -- | Does the program call any function?
 moduleUsesCalls :: GenModule -> Bool
