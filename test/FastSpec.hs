@@ -8,6 +8,7 @@ import Data.Word (Word16, Word32, Word8)
 import Stref.Checked (ArithOp (..), CmpOp (..))
 import Stref.Conversions (convert)
 import Stref.Eval.Fast
+import Stref.Operands (Cell (..))
 import qualified Stref.Operators as O
 import Stref.Policy
 import Stref.Types
@@ -75,6 +76,19 @@ genOfType = \case
   DINT -> genBits (VDInt :: Int32 -> Value)
   REAL -> genReal
 
+-- | Cells with few distinct kinds and addresses, so that ties occur.
+genCell :: Gen Cell
+genCell =
+  oneof
+    [ CellSimple <$> every <*> choose (0, 3)
+    , CellTable <$> every <*> choose (0, 3) <*> choose (0, 3)
+    ]
+
+cellKey :: Cell -> (Int, Int, Int, Int)
+cellKey = \case
+  CellSimple k a -> (0, fromEnum k, a, 0)
+  CellTable k a p -> (1, fromEnum k, a, p)
+
 -- | Same type, or (rarely) two different types, which the reference rejects.
 genPair :: Gen (Value, Value)
 genPair = do
@@ -96,6 +110,9 @@ spec = describe "Fast paths of the interpreter" $ do
   it "valueToInt agrees with valueToInteger" $
     property $ forAll (every >>= genOfType) $ \v ->
       fmap toInteger (valueToInt v) === valueToInteger v
+  it "orders operand cells as a derived instance would (simple first, then kind, address, position)" $
+    property $ forAll ((,) <$> genCell <*> genCell) $ \(a, b) ->
+      compare a b === compare (cellKey a) (cellKey b)
   it "saturates INT addition at 32767 and raises the flag (MT-OP-6, MT-OP-7)" $
     -- 32000 + 1000 = 33000 > 32767
     let Binary add = arithFast mastertoolXE OpAdd INT in add (VInt 32000) (VInt 1000) `shouldBe` Flagged (VInt 32767) True

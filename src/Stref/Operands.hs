@@ -68,7 +68,17 @@ data Operand
 data Cell
   = CellSimple SimpleKind Int
   | CellTable TableKind Int Int
-  deriving (Eq, Ord, Show)
+  deriving (Eq, Show)
+
+-- | The order a derived instance would give (simple cells first, then by
+-- kind, address, position), written out so that it inlines into the
+-- memory's map operations: every operand access compares cells.
+instance Ord Cell where
+  compare (CellSimple k a) (CellSimple k' a') = compare (fromEnum k) (fromEnum k') <> compare a a'
+  compare (CellSimple {}) (CellTable {}) = LT
+  compare (CellTable {}) (CellSimple {}) = GT
+  compare (CellTable k a p) (CellTable k' a' p') = compare (fromEnum k) (fromEnum k') <> compare a a' <> compare p p'
+  {-# INLINE compare #-}
 
 simpleLetter :: SimpleKind -> Text
 simpleLetter = \case
