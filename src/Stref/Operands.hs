@@ -310,28 +310,13 @@ writeCell c w (Memory m) = Memory (M.insert c (w .&. mask) m)
 -- | The value of an integer type held by a cell's pattern: its low bits
 -- ('integerToValue' of the pattern, without an 'Integer').
 wordToValue :: BasicType -> Word32 -> Value
-wordToValue t w = case t of
-  BOOL -> VBool (w /= 0)
-  BYTE -> VByte (fromIntegral w)
-  WORD -> VWord (fromIntegral w)
-  DWORD -> VDWord w
-  USINT -> VUSInt (fromIntegral w)
-  INT -> VInt (fromIntegral w)
-  DINT -> VDInt (fromIntegral w)
-  REAL -> VReal (fromIntegral w)
+wordToValue t w = intToValue t (fromIntegral w)
 
 -- | The pattern of an integer value: its low 32 bits (two's complement for
--- a negative number, as 'valueToInteger' modulo 2^32).
+-- a negative number, as 'valueToInteger' modulo 2^32); REAL is written by
+-- its bits, never through this.
 valueToWord :: Value -> Word32
-valueToWord = \case
-  VBool b -> if b then 1 else 0
-  VByte x -> fromIntegral x
-  VWord x -> fromIntegral x
-  VDWord x -> x
-  VUSInt x -> fromIntegral x
-  VInt x -> fromIntegral x
-  VDInt x -> fromIntegral x
-  VReal _ -> 0 -- never: REAL is written by its bits above
+valueToWord = maybe 0 fromIntegral . valueToInt
 
 -- | Read a variable of the given type mapped onto the operand.
 readOperand :: Memory -> Operand -> BasicType -> Value

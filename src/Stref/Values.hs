@@ -8,6 +8,8 @@ module Stref.Values
   , valueType
   , defaultValue
   , valueToInteger
+  , valueToInt
+  , intToValue
   , integerToValue
   , realBits
   , realFromBits
@@ -95,6 +97,33 @@ integerToValue t n = case t of
   INT -> VInt (fromInteger n)
   DINT -> VDInt (fromInteger n)
   REAL -> VReal (fromInteger n)
+
+-- | The number of an integer value without 'Integer' ('valueToInteger' for
+-- every type but REAL; all fit an 'Int').
+valueToInt :: Value -> Maybe Int
+valueToInt = \case
+  VInt i -> Just (fromIntegral i)
+  VDInt i -> Just (fromIntegral i)
+  VUSInt w -> Just (fromIntegral w)
+  VBool b -> Just (if b then 1 else 0)
+  VByte w -> Just (fromIntegral w)
+  VWord w -> Just (fromIntegral w)
+  VDWord w -> Just (fromIntegral w)
+  VReal _ -> Nothing
+{-# INLINE valueToInt #-}
+
+-- | 'integerToValue' from an 'Int' (the same low bits; REAL by the nearest
+-- binary32 through the reference).
+intToValue :: BasicType -> Int -> Value
+intToValue t n = case t of
+  INT -> VInt (fromIntegral n)
+  DINT -> VDInt (fromIntegral n)
+  USINT -> VUSInt (fromIntegral n)
+  BYTE -> VByte (fromIntegral n)
+  WORD -> VWord (fromIntegral n)
+  DWORD -> VDWord (fromIntegral n)
+  BOOL -> VBool (n /= 0)
+  REAL -> integerToValue REAL (toInteger n)
 
 realBits :: Float -> Word32
 realBits = castFloatToWord32

@@ -235,29 +235,3 @@ convertFast p from to = Unary $ case (from, to) of
       NarrowWrap -> \case VDInt x -> mk (fromIntegral x :: Int); v -> ref v
       NarrowSaturate -> \case VDInt x -> let (l, h) = range t in mk (max l (min h (fromIntegral (x :: Int32)))); v -> ref v
 
--- | The number of an integer value without 'Integer' ('valueToInteger' for
--- every type but REAL; all fit an 'Int').
-valueToInt :: Value -> Maybe Int
-valueToInt = \case
-  VInt i -> Just (fromIntegral i)
-  VDInt i -> Just (fromIntegral i)
-  VUSInt w -> Just (fromIntegral w)
-  VBool b -> Just (if b then 1 else 0)
-  VByte w -> Just (fromIntegral w)
-  VWord w -> Just (fromIntegral w)
-  VDWord w -> Just (fromIntegral w)
-  VReal _ -> Nothing
-{-# INLINE valueToInt #-}
-
--- | 'integerToValue' from an 'Int' (the same low bits; REAL by the nearest
--- binary32 through the reference).
-intToValue :: BasicType -> Int -> Value
-intToValue t n = case t of
-  INT -> VInt (fromIntegral n)
-  DINT -> VDInt (fromIntegral n)
-  USINT -> VUSInt (fromIntegral n)
-  BYTE -> VByte (fromIntegral n)
-  WORD -> VWord (fromIntegral n)
-  DWORD -> VDWord (fromIntegral n)
-  BOOL -> VBool (n /= 0)
-  REAL -> integerToValue REAL (toInteger n)
