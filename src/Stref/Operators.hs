@@ -19,6 +19,8 @@ module Stref.Operators
   , logic
   , expt
   , realArithWith
+  , divide
+  , modulo
   ) where
 
 import Data.Bits (complement, xor, (.&.), (.|.))
@@ -68,15 +70,18 @@ intArith p op t x y = case op of
 
 -- | Quotient: truncated toward zero (A7, MT-OP-10) or euclidean (the
 -- remainder is never negative).
-divide :: ModSign -> Integer -> Integer -> Integer
+-- (On 'Integer' here, on 'Int' in the interpreter's fast path.)
+divide :: Integral a => ModSign -> a -> a -> a
 divide ModSignDividend x y = x `quot` y
 divide ModSignEuclidean x y = (x - modulo ModSignEuclidean x y) `div` y
+{-# INLINE divide #-}
 
 -- | Remainder: the sign of the dividend (A7) or euclidean (0 <= r < |y|).
 -- In both cases x = y * divide x y + modulo x y.
-modulo :: ModSign -> Integer -> Integer -> Integer
+modulo :: Integral a => ModSign -> a -> a -> a
 modulo ModSignDividend x y = x `rem` y
 modulo ModSignEuclidean x y = x `mod` abs y
+{-# INLINE modulo #-}
 
 -- | The value stored for an exact integer result of type @t@, and whether the
 -- arithmetic overflowed. Under @operand-type@ the arithmetic has the width of

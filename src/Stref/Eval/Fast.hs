@@ -108,13 +108,13 @@ intArith p op t mk lift = case op of
         DivZeroError -> Raised errDivisionByZero -- MT-OP-9, MT-ERR-2020
         DivZeroZero -> Plain (mk 0)
         DivZeroTrap -> Raised trapDivisionByZero
-      else keepsFlag (divide modSign x y) -- MT-OP-10, A7
+      else keepsFlag (O.divide modSign x y) -- MT-OP-10, A7
   OpMod -> lift $ \x y ->
     if y == 0
       then case modZero of
         ModZeroZero -> Plain (mk 0) -- MT-OP-8
         ModZeroError -> Raised errModZero
-      else keepsFlag (modulo modSign x y)
+      else keepsFlag (O.modulo modSign x y)
   where
     !divZero = pDivZero p
     !modZero = pModZero p
@@ -169,14 +169,6 @@ range = \case
   WORD -> (0, 65535)
   DINT -> (dintLo, dintHi)
   _ -> (0, 0) -- never asked: the other types do not come here
-
-divide :: ModSign -> Int -> Int -> Int
-divide ModSignDividend x y = x `quot` y
-divide ModSignEuclidean x y = (x - modulo ModSignEuclidean x y) `div` y
-
-modulo :: ModSign -> Int -> Int -> Int
-modulo ModSignDividend x y = x `rem` y
-modulo ModSignEuclidean x y = x `mod` abs y
 
 -- | 'O.compareValues' with the operator fixed once (MT-OP-11).
 compareFast :: CmpOp -> Binary Bool
