@@ -12,7 +12,10 @@
 -- built), and a module call is one 'runST'. A runtime error stops the
 -- closures; the machine keeps the state at the moment it occurred (operand
 -- writes made before an error persist, MT-EXEC-8).
+{-# LANGUAGE MagicHash #-}
+{-# LANGUAGE MultiWayIf #-}
 {-# LANGUAGE RankNTypes #-}
+{-# LANGUAGE UnboxedTuples #-}
 module Stref.Eval
   ( -- * The machine
     Machine (..)
@@ -44,14 +47,18 @@ module Stref.Eval
   ) where
 
 import Control.Monad.ST (ST)
+import Data.Bits (xor, (.&.), (.|.))
+import GHC.Exts (Int (I#), Int#, State#)
+import GHC.ST (ST (..))
 import qualified Data.IntMap.Strict as IM
-import Data.Int (Int32)
+import Data.Int (Int16, Int32)
 import Data.IntMap.Strict (IntMap)
 import Data.STRef
 import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.Checked
+import Stref.Conversions (convert)
 import Stref.Diagnostics
 import Stref.Eval.Fast
 import Stref.Operands
@@ -63,14 +70,14 @@ import Stref.Values
 -- | The state one module call works on: mutable slots, valid inside one
 -- 'runST'.
 data Machine s = Machine
-  { mData :: !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
-  , mFrame :: !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
-  , mMemory :: !(STRef s Memory) -- ^ the PLC operands
-  , mCounters :: !(MU.MVector s Int)
+  { mData :: {-# UNPACK #-} !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
+  , mFrame :: {-# UNPACK #-} !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
+  , mMemory :: {-# UNPACK #-} !(STRef s Memory) -- ^ the PLC operands
+  , mCounters :: {-# UNPACK #-} !(MU.MVector s Int)
   -- ^ steps used of the budget (MT-EXEC-7), INTERNAL_OVERFLOW (MT-OP-7),
   -- OUTPUT1..3 (MT-SIG-4), whether a runtime error occurred, at the
   -- indices below
-  , mError :: !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
+  , mError :: {-# UNPACK #-} !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
   }
 
 ixSteps, ixOverflow, ixFailed :: Int
@@ -366,7 +373,7 @@ data Ctx = Ctx
 -- The 'Leaf' says when the expression is a constant or a variable in a slot,
 -- so that an operator over it reads the slot itself instead of calling a
 -- closure (the most common operands; a call per leaf would dominate).
-data Meaning s = Meaning !Bool (Run s Value) !Leaf
+data Meaning s = Meaning !Bool (Run s Value) !Leaf !(Typed s)
 
 data Leaf
   = Constant !Value
@@ -381,7 +388,7 @@ data Staged s = Staged !(Run s Value)
 
 -- | An expression that is none of the leaves.
 computed :: Bool -> Run s Value -> Meaning s
-computed canFail r = Meaning canFail r Computed
+computed canFail r = Meaning canFail r Computed Untyped
 
 staged :: Bool -> Staged s -> Meaning s
 staged canFail (Staged r) = computed canFail r
@@ -390,12 +397,117 @@ staged canFail (Staged r) = computed canFail r
 -- closure that does the read itself (inlined there), else the operand's
 -- closure.
 withOperand :: Meaning s -> (Run s Value -> r) -> r
-withOperand (Meaning _ r leaf) k = case leaf of
+withOperand (Meaning _ r leaf _) k = case leaf of
   Constant c -> k (\_ _ -> pure c)
   DataSlot i d -> k (\_ m -> readSlot (mData m) d i)
   FrameSlot i d -> k (\_ m -> readSTRef (mFrame m) >>= \f -> readSlot f d i)
   Computed -> k r
 {-# INLINE withOperand #-}
+
+--------------------------------------------------------------------------------
+-- Typed closures
+
+-- | A closure giving the number of an expression of an integer or bit-string
+-- type ('intTyped'), returned unboxed: an operator over such closures
+-- allocates nothing, where a 'Value' would be built and taken apart at every
+-- node of the expression.
+type IntRun s = Env -> Machine s -> State# s -> (# State# s, Int# #)
+
+-- | An 'IntRun' written in 'ST' (inlined: the 'Int' is never built).
+intRun :: (Env -> Machine s -> ST s Int) -> IntRun s
+intRun f = \e m s -> case f e m of ST g -> case g s of (# s', I# n #) -> (# s', n #)
+{-# INLINE intRun #-}
+
+runInt :: IntRun s -> Env -> Machine s -> ST s Int
+runInt r e m = ST (\s -> case r e m s of (# s', n #) -> (# s', I# n #))
+{-# INLINE runInt #-}
+
+-- | The typed form of an expression, when it has one.
+data Typed s
+  = Untyped
+  | IntTyped !(IntRun s)
+
+-- | A typed closure built by a step of translation (see 'Staged').
+data StagedInt s = StagedInt !(IntRun s)
+
+-- | The types whose values the typed closures carry as a machine 'Int' (all
+-- at most 32 bits wide).
+intTyped :: BasicType -> Bool
+intTyped t = t `elem` [INT, DINT, USINT, BYTE, WORD, DWORD]
+
+-- | The number of a value of an 'intTyped' type (the checker gives each
+-- expression one type, so a REAL never comes here).
+numberOf :: Value -> Int
+numberOf v = case valueToInt v of
+  Just n -> n
+  Nothing -> 0
+{-# INLINE numberOf #-}
+
+-- | An expression of an 'intTyped' type given by its typed closure; its
+-- 'Value' closure boxes the number as the type's value.
+intMeaning :: Bool -> BasicType -> StagedInt s -> Meaning s
+intMeaning canFail t (StagedInt r) = case boxed t r of
+  Staged g -> Meaning canFail g Computed (IntTyped r)
+
+-- | The value of a typed closure's number, the type chosen once.
+boxed :: BasicType -> IntRun s -> Staged s
+boxed t r = case t of
+  INT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VInt (fromIntegral n)
+  DINT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VDInt (fromIntegral n)
+  USINT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VUSInt (fromIntegral n)
+  BYTE -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VByte (fromIntegral n)
+  WORD -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VWord (fromIntegral n)
+  DWORD -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VDWord (fromIntegral n)
+  _ -> Staged $ \e m -> runInt r e m >>= \n -> pure $! intToValue t n
+
+-- | The typed closure of an operand of an 'intTyped' type: a leaf read
+-- directly, a typed closure as it is, any other closure's value taken apart.
+intRunOf :: Meaning s -> IntRun s
+intRunOf (Meaning _ r leaf typed) = case leaf of
+  Constant c -> case numberOf c of I# n -> \_ _ s -> (# s, n #)
+  DataSlot i d -> intRun (\_ m -> numberOf <$> readSlot (mData m) d i)
+  FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readSlot f d i)
+  Computed -> case typed of
+    IntTyped ir -> ir
+    Untyped -> intRun (\e m -> numberOf <$> r e m)
+-- never inlined: the choice of leaf must be made once, when the closure
+-- over it is built, not inside that closure on every run
+{-# NOINLINE intRunOf #-}
+
+-- | Two operands of an 'intTyped' type left to right (decision A18),
+-- stopping at an error (then @failed@ is the result, never used), else @f@
+-- on their numbers; @wrap@ receives the closure. Inlined where @f@ and
+-- @wrap@ are known: one closure per operator, with the operator's code in
+-- it, the operands' closures chosen before it is built.
+intBinary :: Meaning s -> Meaning s -> a -> (Int -> Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+intBinary ma@(Meaning fa _ _ _) mb@(Meaning fb _ _ _) failed f wrap = case (intRunOf ma, intRunOf mb) of
+  (!oa, !ob) -> wrap $ \e m -> do
+    x <- runInt oa e m
+    bad <- if fa then hasFailed m else pure False
+    if bad
+      then pure failed
+      else do
+        y <- runInt ob e m
+        bad' <- if fb then hasFailed m else pure False
+        if bad' then pure failed else f x y m
+{-# INLINE intBinary #-}
+
+-- | 'intBinary' for one operand.
+intUnary :: Meaning s -> a -> (Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+intUnary ma@(Meaning fa _ _ _) failed f wrap = case intRunOf ma of
+  !oa -> wrap $ \e m -> do
+    x <- runInt oa e m
+    bad <- if fa then hasFailed m else pure False
+    if bad then pure failed else f x m
+{-# INLINE intUnary #-}
+
+-- | The wrappers for 'intBinary' and 'intUnary'.
+typedInt :: (Env -> Machine s -> ST s Int) -> StagedInt s
+typedInt r = StagedInt (intRun r)
+{-# INLINE typedInt #-}
+
+failsM :: Meaning s -> Bool
+failsM (Meaning f _ _ _) = f
 
 -- | Translate the whole module once. Functions refer to each other through
 -- the lazily built table of meanings (a knot: each function is translated
@@ -423,7 +535,7 @@ flowExec r = Exec $ \e m ->
 -- | An expression closure as an 'Exec'.
 compileExpr :: Ctx -> CExpr -> Exec s Value
 compileExpr ctx x =
-  let Meaning _ r _ = meaning ctx x
+  let Meaning _ r _ _ = meaning ctx x
    in Exec $ \e m -> do
         v <- r e m
         bad <- hasFailed m
@@ -475,7 +587,7 @@ compileBlock ctx = go . map (compileStmt ctx)
 -- | Run an expression, then the continuation with its value, unless the
 -- expression failed.
 withValue :: Meaning s -> Env -> Machine s -> (Value -> ST s Flow) -> ST s Flow
-withValue (Meaning canFail r _) e m k
+withValue (Meaning canFail r _ _) e m k
   | canFail = do
       x <- r e m
       bad <- hasFailed m
@@ -486,7 +598,7 @@ withValue (Meaning canFail r _) e m k
 -- | Evaluate two operands left to right (decision A18), stopping at an
 -- error, then combine them.
 binary :: Meaning s -> Meaning s -> (Machine s -> Value -> Value -> ST s Value) -> Bool -> Meaning s
-binary ma@(Meaning fa _ _) mb@(Meaning fb _ _) f canFail =
+binary ma@(Meaning fa _ _ _) mb@(Meaning fb _ _ _) f canFail =
   case withOperand ma $ \ra -> withOperand mb $ \rb -> Staged $ \e m -> do
       x <- ra e m
       bad <- if fa then hasFailed m else pure False
@@ -501,7 +613,7 @@ binary ma@(Meaning fa _ _) mb@(Meaning fb _ _) f canFail =
 {-# INLINE binary #-}
 
 unary :: Meaning s -> (Machine s -> Value -> ST s Value) -> Bool -> Meaning s
-unary ma@(Meaning fa _ _) f canFail =
+unary ma@(Meaning fa _ _ _) f canFail =
   case withOperand ma $ \ra -> Staged $ \e m -> do
     x <- ra e m
     bad <- if fa then hasFailed m else pure False
@@ -548,10 +660,15 @@ intBounds v = case varType v of
   _ -> Nothing
 
 elementIndexRef :: Policies -> Line -> Var -> Machine s -> Value -> ST s Int
-elementIndexRef pol line v m iv = case (valueToInteger iv, varType v) of
-  (Nothing, _) -> failed errMalformed
-  (_, Basic _) -> failed errMalformed
-  (Just k, Array lo hi _)
+elementIndexRef pol line v m iv = case valueToInteger iv of
+  Nothing -> (-1) <$ raise m (runtimeError errMalformed line)
+  Just k -> indexNumber pol line v m k
+
+-- | 'elementIndex' for the number of the index.
+indexNumber :: Policies -> Line -> Var -> Machine s -> Integer -> ST s Int
+indexNumber pol line v m k = case varType v of
+  Basic _ -> failed errMalformed
+  Array lo hi _
     | k >= lo && k <= hi -> pure (fromInteger (k - lo))
     | otherwise -> case pIndexOutOfRange pol of
         IndexError -> failed errIndex -- MT-ERR-2015
@@ -576,44 +693,100 @@ boolValue b = if b then VBool True else VBool False
 -- | The meaning of an expression.
 meaning :: Ctx -> CExpr -> Meaning s
 meaning ctx = \case
-  CLit v -> Meaning False (\_ _ -> pure v) (Constant v)
+  CLit v -> Meaning False (\_ _ -> pure v) (Constant v) Untyped
   CRead v ->
     let leaf = case varHome v of
           Data i -> DataSlot i (defaultValue (varBasicType v))
           Frame i -> FrameSlot i (defaultValue (varBasicType v))
           _ -> Computed
-     in Meaning False (readRun v 0) leaf
+     in Meaning False (readRun v 0) leaf Untyped
   CReadIndex line v ix ->
     let index = elementIndex pol line v
         -- the element closures, built once
         elements = V.generate (varElements v) (readRun v)
         def = defaultValue (varBasicType v)
-        ixM@(Meaning fi _ _) = meaning ctx (indexExpr ix)
+        ix' = indexExpr ix
+        ixM@(Meaning fi _ _ _) = meaning ctx ix'
         -- the index, unless it failed
         withIndex ri e m k = do
           iv <- ri e m
           bad <- if fi then hasFailed m else pure False
           if bad then pure iv else k iv
         {-# INLINE withIndex #-}
-     in staged True $ withOperand ixM $ \ri -> Staged $ case (varHome v, intBounds v) of
-          (Data base, Just (lo, hi)) ->
-            -- an element of the data area, the bounds checked inline
-            \e m -> withIndex ri e m $ \iv -> case valueToInt iv of
-              Just i | i >= lo && i <= hi -> readSlot (mData m) def (base + i - lo)
-              _ -> index m iv >>= \k -> if k < 0 then pure iv else readSlot (mData m) def (base + k)
-          _ -> \e m -> withIndex ri e m $ \iv ->
+     in case (varHome v, intBounds v) of
+          (Data base, Just (lo, hi))
+            | intTyped (cexprType ix') ->
+                -- an element of the data area: the index as a number, the
+                -- bounds checked inline
+                let element i m
+                      | i >= lo && i <= hi = readSlot (mData m) def (base + i - lo)
+                      | otherwise = indexNumber pol line v m (toInteger i) >>= \k -> if k < 0 then pure def else readSlot (mData m) def (base + k)
+                    {-# INLINE element #-}
+                    typed
+                      | intTyped (varBasicType v) = case intUnary ixM 0 (\i m -> numberOf <$> element i m) typedInt of
+                          StagedInt r -> IntTyped r
+                      | otherwise = Untyped
+                 in case intUnary ixM def element Staged of
+                      Staged r -> Meaning True r Computed typed
+          _ -> staged True $ withOperand ixM $ \ri -> Staged $ \e m -> withIndex ri e m $ \iv ->
             index m iv >>= \k ->
               if k < 0
                 then pure iv
                 else maybe (malformed line m) (\r -> r e m) (elements V.!? k)
-  CConv from to x -> case convertFast pol from to of
-    Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
+  CConv from to x
+    | Just m <- intConversion ctx from to x -> m
+    | otherwise -> case convertFast pol from to of
+        Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
   CNeg line _ x -> unary (meaning ctx x) (\m v -> outcome line m (O.negateValue pol v)) True -- MT-OP-4, MT-OP-6
   CNot _ x -> unary (meaning ctx x) (\_ v -> pure $! O.notValue v) False -- MT-OP-14
+  CArith line op t a b
+    | t `elem` [INT, DINT, USINT] ->
+        -- MT-OP-4..10 on numbers, the outcome written straight to the machine
+        let ma = meaning ctx a
+            mb = meaning ctx b
+            canFail = failsM ma || failsM mb || arithCanFail pol op t
+            flagged m n o = (pure $! n) <* MU.unsafeWrite (mCounters m) ixOverflow (fromEnum o) -- MT-OP-7
+            plain n = pure $! n
+            raised m c = 0 <$ raise m (runtimeError c line)
+            !ia = intArith pol t
+            on o = intMeaning canFail t (intBinary ma mb 0 (\x y m -> intOp (flagged m) plain (raised m) ia o x y) typedInt)
+            {-# INLINE on #-}
+         in case op of
+              OpAdd -> on OpAdd
+              OpSub -> on OpSub
+              OpMul -> on OpMul
+              OpDiv -> on OpDiv
+              OpMod -> on OpMod
   CArith line op t a b -> case arithFast pol op t of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
+  CCompare op t a b
+    | intTyped t ->
+        -- MT-OP-11 on numbers
+        let ma = meaning ctx a
+            mb = meaning ctx b
+            on cmp = case intBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmp x y))) Staged of
+              Staged r -> computed (failsM ma || failsM mb) r
+            {-# INLINE on #-}
+         in case op of
+              OpLt -> on (<)
+              OpGt -> on (>)
+              OpLe -> on (<=)
+              OpGe -> on (>=)
+              OpEq -> on (==)
+              OpNe -> on (/=)
   CCompare op _ a b -> case compareFast op of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (boolValue (f x y))) False
+  CLogic op t a b
+    | t `elem` [BYTE, WORD, DWORD] ->
+        -- MT-OP-12..14 bit by bit on the numbers (both below 2^32)
+        let ma = meaning ctx a
+            mb = meaning ctx b
+            on f = intMeaning (failsM ma || failsM mb) t (intBinary ma mb 0 (\x y _ -> pure $! f x y) typedInt)
+            {-# INLINE on #-}
+         in case op of
+              OpAnd -> on (.&.)
+              OpOr -> on (.|.)
+              OpXor -> on xor
   CLogic op t a b ->
     let eager = binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure $! O.logic op x y) False
      in case (pShortCircuit pol, t, op) of
@@ -624,8 +797,8 @@ meaning ctx = \case
           _ -> eager
     where
       shortCircuit decisive =
-        let Meaning fa ra _ = meaning ctx a
-            Meaning fb rb _ = meaning ctx b
+        let Meaning fa ra _ _ = meaning ctx a
+            Meaning fb rb _ _ = meaning ctx b
          in computed (fa || fb) $ \e m -> do
               x <- ra e m
               bad <- if fa then hasFailed m else pure False
@@ -639,6 +812,53 @@ meaning ctx = \case
   CExpt line _ a b -> binary (meaning ctx a) (meaning ctx b) (\m x y -> outcome line m (O.expt pol x y)) True -- MT-OP-20
   where
     pol = cxPolicies ctx
+
+-- | The conversions (MT-CONV-5, Table 4-6) to an 'intTyped' type that have a
+-- typed closure: those keeping the number, the narrowing of a DINT under
+-- either @narrow-int@ alternative, and REAL to DINT or INT under the
+-- saturating @real-to-int@ alternatives (as "Stref.Eval.Fast" does on values;
+-- NaN, infinities and magnitudes from 2^31 go to the reference).
+intConversion :: Ctx -> BasicType -> BasicType -> CExpr -> Maybe (Meaning s)
+intConversion ctx from to x = case (from, to) of
+  (INT, DINT) -> same
+  (USINT, INT) -> same
+  (USINT, DINT) -> same
+  (BYTE, WORD) -> same
+  (BYTE, DWORD) -> same
+  (WORD, DWORD) -> same
+  (DINT, INT) -> narrowing
+  (DINT, BYTE) -> narrowing
+  (DINT, WORD) -> narrowing
+  (REAL, DINT) -> fromReal
+  (REAL, INT) -> fromReal
+  _ -> Nothing
+  where
+    pol = cxPolicies ctx
+    xM = meaning ctx x
+    onNumber f = Just (intMeaning (failsM xM) to (intUnary xM 0 (\n _ -> pure $! f n) typedInt))
+    {-# INLINE onNumber #-}
+    same = onNumber id
+    (lo, hi) = range to
+    -- C16, C17, C44-C47: the low bits, or the nearest value
+    narrowing = case (pNarrowInt pol, to) of
+      (NarrowSaturate, _) -> onNumber (\n -> max lo (min hi n))
+      (NarrowWrap, INT) -> onNumber (\n -> fromIntegral (fromIntegral n :: Int16))
+      (NarrowWrap, _) -> onNumber (.&. hi)
+    -- C52, C53 (see 'convertFast')
+    fromReal = case pRealToInt pol of
+      TruncateSaturate -> onReal (\r -> max lo (min hi (truncate r)))
+      RoundEvenSaturate -> onReal (\r -> max lo (min hi (round r)))
+      RoundEvenWrap -> Nothing
+    reference = convert pol from to
+    onReal f =
+      let toNumber = \case
+            VReal r | abs r < 2147483648 -> f r
+            v -> numberOf (reference v)
+          {-# INLINE toNumber #-}
+       in case unary xM (\_ v -> pure $! intToValue to (toNumber v)) False of
+            Meaning canFail g _ _ -> case withOperand xM (\rx -> StagedInt (intRun (\e m -> toNumber <$> rx e m))) of
+              StagedInt r -> Just (Meaning canFail g Computed (IntTyped r))
+    {-# INLINE onReal #-}
 
 -- | A call: arguments left to right (decision A18), then a new frame one
 -- level deeper; a 17th nested frame is runtime error 2050 at the line of the
@@ -665,7 +885,7 @@ compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
 -- | The arguments left to right, stopping at the first error.
 evalArgs :: [Meaning s] -> Env -> Machine s -> ST s [Value]
 evalArgs [] _ _ = pure []
-evalArgs (Meaning f r _ : rest) e m = do
+evalArgs (Meaning f r _ _ : rest) e m = do
   x <- r e m
   bad <- if f then hasFailed m else pure False
   if bad then pure [] else (x :) <$> evalArgs rest e m
@@ -677,21 +897,45 @@ compileStmt ctx = \case
     let xM = meaning ctx x
      in case target of
           LTVar v -> case varHome v of
-            Data i -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ writeSlot (mData m) i val
+            Data i
+              | Meaning canFail _ Computed (IntTyped r) <- xM ->
+                  -- a typed expression's number boxed as the slot's value
+                  -- here, without calling its 'Value' closure
+                  let assign mk = \e m -> stepThen line m $ do
+                        n <- runInt r e m
+                        bad <- if canFail then hasFailed m else pure False
+                        if bad then pure Failing else Next <$ writeSlot (mData m) i (mk n)
+                      {-# INLINE assign #-}
+                   in case cexprType x of
+                        INT -> assign (\n -> VInt (fromIntegral n))
+                        DINT -> assign (\n -> VDInt (fromIntegral n))
+                        USINT -> assign (\n -> VUSInt (fromIntegral n))
+                        BYTE -> assign (\n -> VByte (fromIntegral n))
+                        WORD -> assign (\n -> VWord (fromIntegral n))
+                        DWORD -> assign (\n -> VDWord (fromIntegral n))
+                        t -> assign (intToValue t)
+              | otherwise -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ writeSlot (mData m) i val
             _ ->
               let w = writeRun v 0
                in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
           LTIndex iline v ix ->
-            let ixM = meaning ctx (indexExpr ix)
+            let ix' = indexExpr ix
+                ixM = meaning ctx ix'
                 index = elementIndex pol iline v
                 writers = V.generate (varElements v) (writeRun v)
              in case (varHome v, intBounds v) of
-                  (Data base, Just (lo, hi)) ->
-                    -- an element of the data area, the bounds checked inline
-                    \e m -> stepThen line m $ withValue xM e m $ \val ->
-                      withValue ixM e m $ \iv -> case valueToInt iv of
-                        Just i | i >= lo && i <= hi -> Next <$ writeSlot (mData m) (base + i - lo) val
-                        _ -> index m iv >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
+                  (Data base, Just (lo, hi))
+                    | intTyped (cexprType ix') ->
+                        -- an element of the data area: the index as a number,
+                        -- the bounds checked inline
+                        let !ri = intRunOf ixM
+                         in \e m -> stepThen line m $ withValue xM e m $ \val -> do
+                          i <- runInt ri e m
+                          bad <- if failsM ixM then hasFailed m else pure False
+                          if
+                            | bad -> pure Failing
+                            | i >= lo && i <= hi -> Next <$ writeSlot (mData m) (base + i - lo) val
+                            | otherwise -> indexNumber pol iline v m (toInteger i) >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
                   _ -> \e m -> stepThen line m $ withValue xM e m $ \val ->
                     withValue ixM e m $ \iv -> do
                       k <- index m iv
