@@ -48,7 +48,7 @@ module Stref.Eval
 
 import Control.Monad.ST (ST)
 import Data.Bits (xor, (.&.), (.|.))
-import GHC.Exts (Int (I#), Int#, State#)
+import GHC.Exts (Float (F#), Float#, Int (I#), Int#, State#)
 import GHC.ST (ST (..))
 import qualified Data.IntMap.Strict as IM
 import Data.Int (Int16, Int32)
@@ -422,10 +422,37 @@ runInt :: IntRun s -> Env -> Machine s -> ST s Int
 runInt r e m = ST (\s -> case r e m s of (# s', n #) -> (# s', I# n #))
 {-# INLINE runInt #-}
 
+-- | A closure giving the binary32 value of a REAL expression unboxed.
+type RealRun s = Env -> Machine s -> State# s -> (# State# s, Float# #)
+
+realRun :: (Env -> Machine s -> ST s Float) -> RealRun s
+realRun f = \e m s -> case f e m of ST g -> case g s of (# s', F# x #) -> (# s', x #)
+{-# INLINE realRun #-}
+
+runReal :: RealRun s -> Env -> Machine s -> ST s Float
+runReal r e m = ST (\s -> case r e m s of (# s', x #) -> (# s', F# x #))
+{-# INLINE runReal #-}
+
 -- | The typed form of an expression, when it has one.
 data Typed s
   = Untyped
   | IntTyped !(IntRun s)
+  | RealTyped !(RealRun s)
+
+data StagedReal s = StagedReal !(RealRun s)
+
+-- | The binary32 value of a REAL value (the checker gives each expression
+-- one type, so nothing else comes here).
+realOf :: Value -> Float
+realOf = \case
+  VReal x -> x
+  _ -> 0
+{-# INLINE realOf #-}
+
+-- | A REAL expression given by its typed closure.
+realMeaning :: Bool -> StagedReal s -> Meaning s
+realMeaning canFail (StagedReal r) = case Staged (\e m -> runReal r e m >>= \x -> pure $! VReal x) of
+  Staged g -> Meaning canFail g Computed (RealTyped r)
 
 -- | A typed closure built by a step of translation (see 'Staged').
 data StagedInt s = StagedInt !(IntRun s)
@@ -469,42 +496,76 @@ intRunOf (Meaning _ r leaf typed) = case leaf of
   FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readSlot f d i)
   Computed -> case typed of
     IntTyped ir -> ir
-    Untyped -> intRun (\e m -> numberOf <$> r e m)
+    _ -> intRun (\e m -> numberOf <$> r e m)
 -- never inlined: the choice of leaf must be made once, when the closure
 -- over it is built, not inside that closure on every run
 {-# NOINLINE intRunOf #-}
 
--- | Two operands of an 'intTyped' type left to right (decision A18),
--- stopping at an error (then @failed@ is the result, never used), else @f@
--- on their numbers; @wrap@ receives the closure. Inlined where @f@ and
--- @wrap@ are known: one closure per operator, with the operator's code in
--- it, the operands' closures chosen before it is built.
+-- | 'intRunOf' for a REAL operand.
+realRunOf :: Meaning s -> RealRun s
+realRunOf (Meaning _ r leaf typed) = case leaf of
+  Constant c -> case realOf c of F# x -> \_ _ s -> (# s, x #)
+  DataSlot i d -> realRun (\_ m -> realOf <$> readSlot (mData m) d i)
+  FrameSlot i d -> realRun (\_ m -> readSTRef (mFrame m) >>= \f -> realOf <$> readSlot f d i)
+  Computed -> case typed of
+    RealTyped rr -> rr
+    _ -> realRun (\e m -> realOf <$> r e m)
+{-# NOINLINE realRunOf #-}
+
+-- | Two operands left to right (decision A18), stopping at an error (then
+-- @failed@ is the result, never used), else @f@ on their values.
+twoOperands :: Bool -> (Env -> Machine s -> ST s x) -> Bool -> (Env -> Machine s -> ST s y) -> a -> (x -> y -> Machine s -> ST s a) -> Env -> Machine s -> ST s a
+twoOperands fa ra fb rb failed f = \e m -> do
+  x <- ra e m
+  bad <- if fa then hasFailed m else pure False
+  if bad
+    then pure failed
+    else do
+      y <- rb e m
+      bad' <- if fb then hasFailed m else pure False
+      if bad' then pure failed else f x y m
+{-# INLINE twoOperands #-}
+
+oneOperand :: Bool -> (Env -> Machine s -> ST s x) -> a -> (x -> Machine s -> ST s a) -> Env -> Machine s -> ST s a
+oneOperand fa ra failed f = \e m -> do
+  x <- ra e m
+  bad <- if fa then hasFailed m else pure False
+  if bad then pure failed else f x m
+{-# INLINE oneOperand #-}
+
+-- | 'twoOperands' on the numbers of two operands of an 'intTyped' type;
+-- @wrap@ receives the closure. Inlined where @f@ and @wrap@ are known: one
+-- closure per operator, with the operator's code in it, the operands'
+-- closures chosen before it is built.
 intBinary :: Meaning s -> Meaning s -> a -> (Int -> Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
-intBinary ma@(Meaning fa _ _ _) mb@(Meaning fb _ _ _) failed f wrap = case (intRunOf ma, intRunOf mb) of
-  (!oa, !ob) -> wrap $ \e m -> do
-    x <- runInt oa e m
-    bad <- if fa then hasFailed m else pure False
-    if bad
-      then pure failed
-      else do
-        y <- runInt ob e m
-        bad' <- if fb then hasFailed m else pure False
-        if bad' then pure failed else f x y m
+intBinary ma mb failed f wrap = case (intRunOf ma, intRunOf mb) of
+  (!ra, !rb) -> wrap (twoOperands (failsM ma) (runInt ra) (failsM mb) (runInt rb) failed f)
 {-# INLINE intBinary #-}
 
--- | 'intBinary' for one operand.
 intUnary :: Meaning s -> a -> (Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
-intUnary ma@(Meaning fa _ _ _) failed f wrap = case intRunOf ma of
-  !oa -> wrap $ \e m -> do
-    x <- runInt oa e m
-    bad <- if fa then hasFailed m else pure False
-    if bad then pure failed else f x m
+intUnary ma failed f wrap = case intRunOf ma of
+  !ra -> wrap (oneOperand (failsM ma) (runInt ra) failed f)
 {-# INLINE intUnary #-}
 
--- | The wrappers for 'intBinary' and 'intUnary'.
+-- | 'intBinary' for REAL operands.
+realBinary :: Meaning s -> Meaning s -> a -> (Float -> Float -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+realBinary ma mb failed f wrap = case (realRunOf ma, realRunOf mb) of
+  (!ra, !rb) -> wrap (twoOperands (failsM ma) (runReal ra) (failsM mb) (runReal rb) failed f)
+{-# INLINE realBinary #-}
+
+realUnary :: Meaning s -> a -> (Float -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+realUnary ma failed f wrap = case realRunOf ma of
+  !ra -> wrap (oneOperand (failsM ma) (runReal ra) failed f)
+{-# INLINE realUnary #-}
+
+-- | The wrappers for the typed closures.
 typedInt :: (Env -> Machine s -> ST s Int) -> StagedInt s
 typedInt r = StagedInt (intRun r)
 {-# INLINE typedInt #-}
+
+typedReal :: (Env -> Machine s -> ST s Float) -> StagedReal s
+typedReal r = StagedReal (realRun r)
+{-# INLINE typedReal #-}
 
 failsM :: Meaning s -> Bool
 failsM (Meaning f _ _ _) = f
@@ -725,6 +786,8 @@ meaning ctx = \case
                     typed
                       | intTyped (varBasicType v) = case intUnary ixM 0 (\i m -> numberOf <$> element i m) typedInt of
                           StagedInt r -> IntTyped r
+                      | varBasicType v == REAL = case intUnary ixM 0 (\i m -> realOf <$> element i m) typedReal of
+                          StagedReal r -> RealTyped r
                       | otherwise = Untyped
                  in case intUnary ixM def element Staged of
                       Staged r -> Meaning True r Computed typed
@@ -735,6 +798,10 @@ meaning ctx = \case
                 else maybe (malformed line m) (\r -> r e m) (elements V.!? k)
   CConv from to x
     | Just m <- intConversion ctx from to x -> m
+    | to == REAL && from `elem` [INT, USINT] ->
+        -- exact: every INT and USINT is a binary32 (MT-CONV-5)
+        let xM = meaning ctx x
+         in realMeaning (failsM xM) (intUnary xM 0 (\n _ -> pure $! fromIntegral n) typedReal)
     | otherwise -> case convertFast pol from to of
         Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
   CNeg line _ x -> unary (meaning ctx x) (\m v -> outcome line m (O.negateValue pol v)) True -- MT-OP-4, MT-OP-6
@@ -757,6 +824,22 @@ meaning ctx = \case
               OpMul -> on OpMul
               OpDiv -> on OpDiv
               OpMod -> on OpMod
+  CArith line op REAL a b ->
+    -- MT-OP-4, A6 on binary32 values
+    let ma = meaning ctx a
+        mb = meaning ctx b
+        canFail = failsM ma || failsM mb || arithCanFail pol op REAL
+        flagged m x o = (pure $! x) <* MU.unsafeWrite (mCounters m) ixOverflow (fromEnum o) -- MT-OP-7
+        plain x = pure $! x
+        raised m c = 0 <$ raise m (runtimeError c line)
+        on o = realMeaning canFail (realBinary ma mb 0 (\x y m -> O.realArithWith (flagged m) plain (raised m) pol o x y) typedReal)
+        {-# INLINE on #-}
+     in case op of
+          OpAdd -> on OpAdd
+          OpSub -> on OpSub
+          OpMul -> on OpMul
+          OpDiv -> on OpDiv
+          OpMod -> on OpMod
   CArith line op t a b -> case arithFast pol op t of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
   CCompare op t a b
@@ -774,6 +857,20 @@ meaning ctx = \case
               OpGe -> on (>=)
               OpEq -> on (==)
               OpNe -> on (/=)
+  CCompare op REAL a b ->
+    -- MT-OP-11 in IEEE order
+    let ma = meaning ctx a
+        mb = meaning ctx b
+        on cmp = case realBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmp x y))) Staged of
+          Staged r -> computed (failsM ma || failsM mb) r
+        {-# INLINE on #-}
+     in case op of
+          OpLt -> on (<)
+          OpGt -> on (>)
+          OpLe -> on (<=)
+          OpGe -> on (>=)
+          OpEq -> on (==)
+          OpNe -> on (/=)
   CCompare op _ a b -> case compareFast op of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (boolValue (f x y))) False
   CLogic op t a b
@@ -855,9 +952,7 @@ intConversion ctx from to x = case (from, to) of
             VReal r | abs r < 2147483648 -> f r
             v -> numberOf (reference v)
           {-# INLINE toNumber #-}
-       in case unary xM (\_ v -> pure $! intToValue to (toNumber v)) False of
-            Meaning canFail g _ _ -> case withOperand xM (\rx -> StagedInt (intRun (\e m -> toNumber <$> rx e m))) of
-              StagedInt r -> Just (Meaning canFail g Computed (IntTyped r))
+       in Just (intMeaning (failsM xM) to (realUnary xM 0 (\r _ -> pure $! toNumber (VReal r)) typedInt))
     {-# INLINE onReal #-}
 
 -- | A call: arguments left to right (decision A18), then a new frame one
@@ -914,6 +1009,11 @@ compileStmt ctx = \case
                         WORD -> assign (\n -> VWord (fromIntegral n))
                         DWORD -> assign (\n -> VDWord (fromIntegral n))
                         t -> assign (intToValue t)
+              | Meaning canFail _ Computed (RealTyped r) <- xM ->
+                  \e m -> stepThen line m $ do
+                    v <- runReal r e m
+                    bad <- if canFail then hasFailed m else pure False
+                    if bad then pure Failing else Next <$ writeSlot (mData m) i (VReal v)
               | otherwise -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ writeSlot (mData m) i val
             _ ->
               let w = writeRun v 0
