@@ -53,6 +53,7 @@ import GHC.ST (ST (..))
 import qualified Data.IntMap.Strict as IM
 import Data.Int (Int16, Int32)
 import Data.IntMap.Strict (IntMap)
+import Data.List (partition)
 import Data.STRef
 import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
@@ -358,7 +359,14 @@ data CompiledModule = CompiledModule
   }
 
 -- | The meaning of a function: arguments to result.
-newtype Function = Function (forall s. [Value] -> Run s Value)
+data Function = Function
+  { fnFrame :: V.Vector Value
+  -- ^ the frame a call starts from (MT-SCOPE-7): the result at its type
+  -- default, the locals kept in the frame at their initial values, the
+  -- rest at their type defaults until the arguments are written
+  , fnParams :: [Var] -- ^ the parameters in declaration order (MT-POU-5)
+  , fnRun :: forall s. Run s Value -- ^ the call, once its frame is installed
+  }
 
 data Ctx = Ctx
   { cxPolicies :: Policies
@@ -437,6 +445,7 @@ runReal r e m = ST (\s -> case r e m s of (# s', x #) -> (# s', F# x #))
 data Typed s
   = Untyped
   | IntTyped !(IntRun s)
+  | IntOfLeaf !Leaf -- ^ the number of a leaf of another integer type (a widening conversion of a variable)
   | RealTyped !(RealRun s)
 
 data StagedReal s = StagedReal !(RealRun s)
@@ -490,13 +499,17 @@ boxed t r = case t of
 -- | The typed closure of an operand of an 'intTyped' type: a leaf read
 -- directly, a typed closure as it is, any other closure's value taken apart.
 intRunOf :: Meaning s -> IntRun s
-intRunOf (Meaning _ r leaf typed) = case leaf of
-  Constant c -> case numberOf c of I# n -> \_ _ s -> (# s, n #)
-  DataSlot i d -> intRun (\_ m -> numberOf <$> readSlot (mData m) d i)
-  FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readSlot f d i)
-  Computed -> case typed of
-    IntTyped ir -> ir
-    _ -> intRun (\e m -> numberOf <$> r e m)
+intRunOf (Meaning _ r leaf typed) = case (leaf, typed) of
+  (Computed, IntTyped ir) -> ir
+  (Computed, IntOfLeaf l) -> ofLeaf l
+  (Computed, _) -> intRun (\e m -> numberOf <$> r e m)
+  (l, _) -> ofLeaf l
+  where
+    ofLeaf = \case
+      Constant c -> case numberOf c of I# n -> \_ _ s -> (# s, n #)
+      DataSlot i d -> intRun (\_ m -> numberOf <$> readSlot (mData m) d i)
+      FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readSlot f d i)
+      Computed -> intRun (\e m -> numberOf <$> r e m)
 -- never inlined: the choice of leaf must be made once, when the closure
 -- over it is built, not inside that closure on every run
 {-# NOINLINE intRunOf #-}
@@ -538,8 +551,12 @@ oneOperand fa ra failed f = \e m -> do
 -- closure per operator, with the operator's code in it, the operands'
 -- closures chosen before it is built.
 intBinary :: Meaning s -> Meaning s -> a -> (Int -> Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
-intBinary ma mb failed f wrap = case (intRunOf ma, intRunOf mb) of
-  (!ra, !rb) -> wrap (twoOperands (failsM ma) (runInt ra) (failsM mb) (runInt rb) failed f)
+intBinary ma mb failed f wrap = case (intRunOf ma, mb) of
+  -- a constant right operand (x + 1, i * 7, n MOD 16) is part of the closure
+  (!ra, Meaning _ _ (Constant c) _) -> case numberOf c of
+    !y -> wrap (oneOperand (failsM ma) (runInt ra) failed (\x m -> f x y m))
+  (!ra, _) -> case intRunOf mb of
+    !rb -> wrap (twoOperands (failsM ma) (runInt ra) (failsM mb) (runInt rb) failed f)
 {-# INLINE intBinary #-}
 
 intUnary :: Meaning s -> a -> (Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
@@ -577,7 +594,7 @@ compileModule :: Policies -> CModule -> CompiledModule
 compileModule pol cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults
   where
     ctx = Ctx pol funs
-    funs = IM.map (\f -> Function (compileFunction ctx f)) (cmFunctions cm)
+    funs = IM.map (compileFunction ctx) (cmFunctions cm)
     prog = cmProgram cm
     defaults =
       slotDefaults dataSlot (cmDataSize cm) $
@@ -605,32 +622,42 @@ compileExpr ctx x =
 -- | A function call in a fresh frame (MT-SCOPE-7): the result slot starts
 -- at its type default, the parameters take the arguments in declaration
 -- order (MT-POU-5), the locals their initial values; the result is the
--- result slot when the body ends or returns (MT-POU-4, MT-STMT-4).
-compileFunction :: Ctx -> CFunction -> [Value] -> Run s Value
-compileFunction ctx f = \args e m -> do
-  fr <- V.thaw template
-  writeSTRef (mFrame m) fr
-  sequence_ (zipWith (\w x -> w x e m) params args)
-  r <- unExec initLocals e m
-  case r of
-    Failed err -> raise m err
-    Done () ->
-      body e m >>= \case
-        Failing -> pure (VBool False)
-        _ -> readSTRef (mFrame m) >>= \fr' -> readSlot fr' result 0
+-- result slot when the body ends or returns (MT-POU-4, MT-STMT-4). The
+-- locals' initial values are constants, so they are part of the frame a
+-- call starts from; a local whose home is not in the frame is initialised
+-- on each call.
+compileFunction :: Ctx -> CFunction -> Function
+compileFunction ctx f = Function template (cfParams f) run
   where
+    run :: Run s Value
+    run e m = do
+      r <- unExec initElsewhere e m
+      case r of
+        Failed err -> raise m err
+        Done () ->
+          body e m >>= \case
+            Failing -> pure (VBool False)
+            _ -> readSTRef (mFrame m) >>= \fr -> readSlot fr result 0
     body = compileBlock ctx (cfBody f)
-    initLocals = mapM_ initVar (cfLocals f)
-    params = map (`writeRun` 0) (cfParams f)
+    (inFrame, elsewhere) = partition (isFrame . varHome . viVar) (cfLocals f)
+    initElsewhere = mapM_ initVar elsewhere
+    isFrame = \case
+      Frame _ -> True
+      _ -> False
     result = defaultValue (cfResult f)
     frameSlot = \case
       Frame i -> Just i
       _ -> Nothing
-    -- slot 0 is the result, at its default; the others at their types'
-    -- defaults until written
+    -- slot 0 is the result, at its default; the locals at their initial
+    -- values (MT-VAR-3, MT-VAR-4, MT-ARR-6, as 'initVar' writes them); the
+    -- others at their types' defaults until written
     template =
       slotDefaults frameSlot (cfFrameSize f) (cfParams f ++ map viVar (cfLocals f))
-        V.// [(0, result)]
+        V.// ((0, result) : concatMap initial inFrame)
+    initial (VarInit v ini) = case (varHome v, ini) of
+      (Frame i, Just (InitScalar x)) -> [(i + k, x) | k <- [0 .. varElements v - 1]]
+      (Frame i, Just (InitArray xs)) -> zip [i + k | k <- [0 .. varElements v - 1]] xs
+      _ -> []
 
 -- | A statement list: stops at the first EXIT, RETURN or error.
 compileBlock :: Ctx -> [CStmt] -> Run s Flow
@@ -934,7 +961,17 @@ intConversion ctx from to x = case (from, to) of
     xM = meaning ctx x
     onNumber f = Just (intMeaning (failsM xM) to (intUnary xM 0 (\n _ -> pure $! f n) typedInt))
     {-# INLINE onNumber #-}
-    same = onNumber id
+    -- the number unchanged: a variable is read as it is
+    same = case xM of
+      Meaning canFail _ leaf _
+        | isSlot leaf -> case onNumber id of
+            Just (Meaning _ g _ _) -> Just (Meaning canFail g Computed (IntOfLeaf leaf))
+            Nothing -> Nothing
+      _ -> onNumber id
+    isSlot = \case
+      DataSlot {} -> True
+      FrameSlot {} -> True
+      _ -> False
     (lo, hi) = range to
     -- C16, C17, C44-C47: the low bits, or the nearest value
     narrowing = case (pNarrowInt pol, to) of
@@ -961,8 +998,9 @@ intConversion ctx from to x = case (from, to) of
 compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Run s Value
 compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
   Nothing -> \_ m -> malformed line m
-  Just (Function fun) -> \e m -> do
-    vs <- evalArgs argsM e m
+  Just fn -> \e m -> do
+    fr <- V.thaw (fnFrame fn)
+    later <- passArguments fr argsM e m
     bad <- hasFailed m
     if bad
       then pure (VBool False)
@@ -971,19 +1009,31 @@ compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
           then raise m (runtimeError errCallDepth line) -- MT-ERR-2050
           else do
             saved <- readSTRef (mFrame m)
-            r <- fun vs e {envDepth = envDepth e + 1} m
+            writeSTRef (mFrame m) fr
+            let e' = e {envDepth = envDepth e + 1}
+            mapM_ (\w -> w e' m) later
+            r <- fnRun fn e' m
             writeSTRef (mFrame m) saved
             pure r
-  where
-    argsM = map (meaning ctx) args
+    where
+      argsM = zip (fnParams fn) (map (meaning ctx) args)
 
--- | The arguments left to right, stopping at the first error.
-evalArgs :: [Meaning s] -> Env -> Machine s -> ST s [Value]
-evalArgs [] _ _ = pure []
-evalArgs (Meaning f r _ _ : rest) e m = do
-  x <- r e m
-  bad <- if f then hasFailed m else pure False
-  if bad then pure [] else (x :) <$> evalArgs rest e m
+-- | The arguments left to right, stopping at the first error: one for a
+-- parameter in the frame is written into the new frame at once (nothing
+-- can see that frame yet); the writes to a parameter elsewhere are returned,
+-- to be made once every argument is evaluated and the frame installed.
+passArguments :: MV.MVector s Value -> [(Var, Meaning s)] -> Env -> Machine s -> ST s [Run s ()]
+passArguments fr = go
+  where
+    go [] _ _ = pure []
+    go ((param, Meaning f r _ _) : rest) e m = do
+      x <- r e m
+      bad <- if f then hasFailed m else pure False
+      if bad
+        then pure []
+        else case varHome param of
+          Frame i -> writeSlot fr i x >> go rest e m
+          _ -> (writeRun param 0 x :) <$> go rest e m
 
 compileStmt :: Ctx -> CStmt -> Run s Flow
 compileStmt ctx = \case
@@ -992,14 +1042,22 @@ compileStmt ctx = \case
     let xM = meaning ctx x
      in case target of
           LTVar v -> case varHome v of
-            Data i
-              | Meaning canFail _ Computed (IntTyped r) <- xM ->
-                  -- a typed expression's number boxed as the slot's value
-                  -- here, without calling its 'Value' closure
+            Data i -> toSlot (\m val -> writeSlot (mData m) i val)
+            Frame i -> toSlot (\m val -> readSTRef (mFrame m) >>= \f -> writeSlot f i val)
+            _ ->
+              let w = writeRun v 0
+               in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
+            where
+              -- a slot of the data area or of the frame; a typed
+              -- expression's number is boxed as the slot's value here,
+              -- without calling its 'Value' closure
+              toSlot :: (forall s'. Machine s' -> Value -> ST s' ()) -> Run s Flow
+              toSlot write = case xM of
+                Meaning canFail _ Computed (IntTyped r) ->
                   let assign mk = \e m -> stepThen line m $ do
                         n <- runInt r e m
                         bad <- if canFail then hasFailed m else pure False
-                        if bad then pure Failing else Next <$ writeSlot (mData m) i (mk n)
+                        if bad then pure Failing else Next <$ write m (mk n)
                       {-# INLINE assign #-}
                    in case cexprType x of
                         INT -> assign (\n -> VInt (fromIntegral n))
@@ -1009,15 +1067,12 @@ compileStmt ctx = \case
                         WORD -> assign (\n -> VWord (fromIntegral n))
                         DWORD -> assign (\n -> VDWord (fromIntegral n))
                         t -> assign (intToValue t)
-              | Meaning canFail _ Computed (RealTyped r) <- xM ->
-                  \e m -> stepThen line m $ do
-                    v <- runReal r e m
-                    bad <- if canFail then hasFailed m else pure False
-                    if bad then pure Failing else Next <$ writeSlot (mData m) i (VReal v)
-              | otherwise -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ writeSlot (mData m) i val
-            _ ->
-              let w = writeRun v 0
-               in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
+                Meaning canFail _ Computed (RealTyped r) -> \e m -> stepThen line m $ do
+                  val <- runReal r e m
+                  bad <- if canFail then hasFailed m else pure False
+                  if bad then pure Failing else Next <$ write m (VReal val)
+                _ -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ write m val
+              {-# INLINE toSlot #-}
           LTIndex iline v ix ->
             let ix' = indexExpr ix
                 ixM = meaning ctx ix'
@@ -1174,27 +1229,31 @@ compileFor ctx line cv start end by body = \e m ->
             else pure Next
     -- the same loop for the common case, an integer control variable with
     -- bounds evaluated once and @stop-at-end@, on machine integers
-    intLoop rd wr lo hi enI stI e m = go
+    intLoop rd wr lo hi enI stI e m =
+      rd e m >>= \c -> case valueToInt c of
+        Just ci -> go ci
+        Nothing -> Failing <$ malformed line m
       where
-        go = do
+        -- @ci@ is the control variable's value, known without reading it
+        -- again: the start value, or the value just written
+        go !ci = do
           ok <- tick (pStepBudget pol) line m
           if not ok
             then pure Failing
             else
-              rd e m >>= \c -> case valueToInt c of
-                Just ci
-                  | if stI < 0 then ci >= enI else ci <= enI ->
-                      bodyR e m >>= \case
-                        Next ->
-                          rd e m >>= \c' -> case valueToInt c' of
-                            Just ci'
-                              | ci' + stI < lo || ci' + stI > hi -> pure Next
-                              | otherwise -> (wr $! intToValue t (ci' + stI)) e m >> go
-                            Nothing -> Failing <$ malformed line m
-                        Exiting -> pure Next
-                        other -> pure other
-                  | otherwise -> pure Next
-                Nothing -> Failing <$ malformed line m
+              if if stI < 0 then ci >= enI else ci <= enI
+                then
+                  bodyR e m >>= \case
+                    Next ->
+                      -- the body may have assigned the control variable
+                      rd e m >>= \c' -> case valueToInt c' of
+                        Just ci'
+                          | ci' + stI < lo || ci' + stI > hi -> pure Next
+                          | otherwise -> let n = ci' + stI in (wr $! intToValue t n) e m >> go n
+                        Nothing -> Failing <$ malformed line m
+                    Exiting -> pure Next
+                    other -> pure other
+                else pure Next
     {-# INLINE intLoop #-}
     continues s c en
       | numCompare s zero == LT = numCompare c en /= LT
