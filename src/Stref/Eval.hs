@@ -46,9 +46,9 @@ module Stref.Eval
   , compileBlock
   ) where
 
-import Control.Monad.ST (ST)
+import Control.Monad.ST (ST, runST)
 import Data.Bits (xor, (.&.), (.|.))
-import GHC.Exts (Float (F#), Float#, Int (I#), Int#, State#)
+import GHC.Exts (Float (F#), Float#, Int (I#), Int#, SmallArray#, SmallMutableArray#, State#, newSmallArray#, readSmallArray#, sizeofSmallArray#, sizeofSmallMutableArray#, thawSmallArray#, unsafeFreezeSmallArray#, writeSmallArray#)
 import GHC.ST (ST (..))
 import qualified Data.IntMap.Strict as IM
 import Data.Int (Int16, Int32)
@@ -72,7 +72,7 @@ import Stref.Values
 -- 'runST'.
 data Machine s = Machine
   { mData :: {-# UNPACK #-} !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
-  , mFrame :: {-# UNPACK #-} !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
+  , mFrame :: {-# UNPACK #-} !(STRef s (CallFrame s)) -- ^ the active function call's frame (MT-SCOPE-7)
   , mMemory :: {-# UNPACK #-} !(STRef s Memory) -- ^ the PLC operands
   , mCounters :: {-# UNPACK #-} !(MU.MVector s Int)
   -- ^ steps used of the budget (MT-EXEC-7), INTERNAL_OVERFLOW (MT-OP-7),
@@ -101,7 +101,7 @@ newMachine cm retained mem (o1, o2, o3) = do
       if IM.null retained
         then cmDataDefaults cm
         else V.imap (\k def -> IM.findWithDefault def k retained) (cmDataDefaults cm)
-  f <- MV.replicate 0 (VBool False)
+  f <- newFrame 0
   fr <- newSTRef f
   mr <- newSTRef mem
   cs <- MU.replicate 6 0
@@ -263,13 +263,51 @@ writeSlot vec k !x
 readElement :: Var -> Int -> Exec s Value
 readElement v off = let r = readRun v off in Exec $ \e m -> Done <$> r e m
 
+-- | A function call's frame (MT-SCOPE-7): a small array, which a call
+-- copies from its starting state in one step (no card table, unlike a
+-- vector's array).
+data CallFrame s = CallFrame (SmallMutableArray# s Value)
+
+newFrame :: Int -> ST s (CallFrame s)
+newFrame (I# n) = ST $ \s -> case newSmallArray# n (VBool False) s of
+  (# s', a #) -> (# s', CallFrame a #)
+
+-- | A slot of a frame, or the default outside it (never for a checked
+-- program: the frame covers every slot of its function).
+readFrame :: CallFrame s -> Value -> Int -> ST s Value
+readFrame (CallFrame a) def k@(I# k#)
+  | k >= 0 && k < I# (sizeofSmallMutableArray# a) = ST (readSmallArray# a k#)
+  | otherwise = pure def
+{-# INLINE readFrame #-}
+
+writeFrame :: CallFrame s -> Int -> Value -> ST s ()
+writeFrame (CallFrame a) k@(I# k#) !x
+  | k >= 0 && k < I# (sizeofSmallMutableArray# a) = ST $ \s -> (# writeSmallArray# a k# x s, () #)
+  | otherwise = pure ()
+{-# INLINE writeFrame #-}
+
+-- | The state a function's frame starts from, immutable.
+data FrameStart = FrameStart (SmallArray# Value)
+
+frameStart :: V.Vector Value -> FrameStart
+frameStart v = runST $ do
+  f@(CallFrame a) <- newFrame (V.length v)
+  V.imapM_ (writeFrame f) v
+  ST $ \s -> case unsafeFreezeSmallArray# a s of
+    (# s', fa #) -> (# s', FrameStart fa #)
+
+-- | A new frame in the starting state.
+startFrame :: FrameStart -> ST s (CallFrame s)
+startFrame (FrameStart a) = ST $ \s -> case thawSmallArray# a 0# (sizeofSmallArray# a) s of
+  (# s', ma #) -> (# s', CallFrame ma #)
+
 -- | A closure over the machine: the form the translated program takes.
 type Run s a = Env -> Machine s -> ST s a
 
 readRun :: Var -> Int -> Run s Value
 readRun v off = case varHome v of
   Data i -> let k = i + off in \_ m -> readSlot (mData m) def k
-  Frame i -> let k = i + off in \_ m -> readSTRef (mFrame m) >>= \f -> readSlot f def k
+  Frame i -> let k = i + off in \_ m -> readSTRef (mFrame m) >>= \f -> readFrame f def k
   Mapped o -> let o' = elementOperand o off in \_ m -> (\mem -> readOperand mem o' t) <$> readSTRef (mMemory m)
   SignalInput n -> \e _ -> pure (VBool (signal n (envInputs e)))
   SignalOutput n -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) (ixOutput (clampSignal n))
@@ -300,7 +338,7 @@ writeElement v off = let w = writeRun v off in \x -> Exec $ \e m -> Done <$> w x
 writeRun :: Var -> Int -> Value -> Run s ()
 writeRun v off = case varHome v of
   Data i -> let k = i + off in \x _ m -> writeSlot (mData m) k x
-  Frame i -> let k = i + off in \x _ m -> readSTRef (mFrame m) >>= \f -> writeSlot f k x
+  Frame i -> let k = i + off in \x _ m -> readSTRef (mFrame m) >>= \f -> writeFrame f k x
   Mapped o -> let o' = elementOperand o off in \x _ m -> modifySTRef' (mMemory m) (writeOperand o' x)
   SignalInput _ -> \_ _ _ -> pure ()
   SignalOutput n
@@ -360,7 +398,7 @@ data CompiledModule = CompiledModule
 
 -- | The meaning of a function: arguments to result.
 data Function = Function
-  { fnFrame :: V.Vector Value
+  { fnFrame :: FrameStart
   -- ^ the frame a call starts from (MT-SCOPE-7): the result at its type
   -- default, the locals kept in the frame at their initial values, the
   -- rest at their type defaults until the arguments are written
@@ -408,7 +446,7 @@ withOperand :: Meaning s -> (Run s Value -> r) -> r
 withOperand (Meaning _ r leaf _) k = case leaf of
   Constant c -> k (\_ _ -> pure c)
   DataSlot i d -> k (\_ m -> readSlot (mData m) d i)
-  FrameSlot i d -> k (\_ m -> readSTRef (mFrame m) >>= \f -> readSlot f d i)
+  FrameSlot i d -> k (\_ m -> readSTRef (mFrame m) >>= \f -> readFrame f d i)
   Computed -> k r
 {-# INLINE withOperand #-}
 
@@ -508,7 +546,7 @@ intRunOf (Meaning _ r leaf typed) = case (leaf, typed) of
     ofLeaf = \case
       Constant c -> case numberOf c of I# n -> \_ _ s -> (# s, n #)
       DataSlot i d -> intRun (\_ m -> numberOf <$> readSlot (mData m) d i)
-      FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readSlot f d i)
+      FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readFrame f d i)
       Computed -> intRun (\e m -> numberOf <$> r e m)
 -- never inlined: the choice of leaf must be made once, when the closure
 -- over it is built, not inside that closure on every run
@@ -519,7 +557,7 @@ realRunOf :: Meaning s -> RealRun s
 realRunOf (Meaning _ r leaf typed) = case leaf of
   Constant c -> case realOf c of F# x -> \_ _ s -> (# s, x #)
   DataSlot i d -> realRun (\_ m -> realOf <$> readSlot (mData m) d i)
-  FrameSlot i d -> realRun (\_ m -> readSTRef (mFrame m) >>= \f -> realOf <$> readSlot f d i)
+  FrameSlot i d -> realRun (\_ m -> readSTRef (mFrame m) >>= \f -> realOf <$> readFrame f d i)
   Computed -> case typed of
     RealTyped rr -> rr
     _ -> realRun (\e m -> realOf <$> r e m)
@@ -551,12 +589,17 @@ oneOperand fa ra failed f = \e m -> do
 -- closure per operator, with the operator's code in it, the operands'
 -- closures chosen before it is built.
 intBinary :: Meaning s -> Meaning s -> a -> (Int -> Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
-intBinary ma mb failed f wrap = case (intRunOf ma, mb) of
-  -- a constant right operand (x + 1, i * 7, n MOD 16) is part of the closure
-  (!ra, Meaning _ _ (Constant c) _) -> case numberOf c of
-    !y -> wrap (oneOperand (failsM ma) (runInt ra) failed (\x m -> f x y m))
-  (!ra, _) -> case intRunOf mb of
-    !rb -> wrap (twoOperands (failsM ma) (runInt ra) (failsM mb) (runInt rb) failed f)
+intBinary ma mb failed f wrap = case (ma, mb) of
+  -- the commonest operands are part of the closure: a variable of the data
+  -- area on the left (n + 1, acc + x), a constant on the right (i * 7, n MOD 16)
+  (Meaning _ _ (DataSlot i d) _, Meaning _ _ (Constant c) _) -> case numberOf c of
+    !y -> wrap (\_ m -> readSlot (mData m) d i >>= \v -> f (numberOf v) y m)
+  (Meaning _ _ (DataSlot i d) _, _) -> case intRunOf mb of
+    !rb -> wrap (twoOperands False (\_ m -> numberOf <$> readSlot (mData m) d i) (failsM mb) (runInt rb) failed f)
+  (_, Meaning _ _ (Constant c) _) -> case (intRunOf ma, numberOf c) of
+    (!ra, !y) -> wrap (oneOperand (failsM ma) (runInt ra) failed (\x m -> f x y m))
+  _ -> case (intRunOf ma, intRunOf mb) of
+    (!ra, !rb) -> wrap (twoOperands (failsM ma) (runInt ra) (failsM mb) (runInt rb) failed f)
 {-# INLINE intBinary #-}
 
 intUnary :: Meaning s -> a -> (Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
@@ -637,7 +680,7 @@ compileFunction ctx f = Function template (cfParams f) run
         Done () ->
           body e m >>= \case
             Failing -> pure (VBool False)
-            _ -> readSTRef (mFrame m) >>= \fr -> readSlot fr result 0
+            _ -> readSTRef (mFrame m) >>= \fr -> readFrame fr result 0
     body = compileBlock ctx (cfBody f)
     (inFrame, elsewhere) = partition (isFrame . varHome . viVar) (cfLocals f)
     initElsewhere = mapM_ initVar elsewhere
@@ -652,8 +695,9 @@ compileFunction ctx f = Function template (cfParams f) run
     -- values (MT-VAR-3, MT-VAR-4, MT-ARR-6, as 'initVar' writes them); the
     -- others at their types' defaults until written
     template =
-      slotDefaults frameSlot (cfFrameSize f) (cfParams f ++ map viVar (cfLocals f))
-        V.// ((0, result) : concatMap initial inFrame)
+      frameStart $
+        slotDefaults frameSlot (cfFrameSize f) (cfParams f ++ map viVar (cfLocals f))
+          V.// ((0, result) : concatMap initial inFrame)
     initial (VarInit v ini) = case (varHome v, ini) of
       (Frame i, Just (InitScalar x)) -> [(i + k, x) | k <- [0 .. varElements v - 1]]
       (Frame i, Just (InitArray xs)) -> zip [i + k | k <- [0 .. varElements v - 1]] xs
@@ -959,7 +1003,10 @@ intConversion ctx from to x = case (from, to) of
   where
     pol = cxPolicies ctx
     xM = meaning ctx x
-    onNumber f = Just (intMeaning (failsM xM) to (intUnary xM 0 (\n _ -> pure $! f n) typedInt))
+    onNumber f = Just $ intMeaning (failsM xM) to $ case xM of
+      -- a variable of the data area is read in the closure
+      Meaning _ _ (DataSlot i d) _ -> typedInt (\_ m -> readSlot (mData m) d i >>= \v -> pure $! f (numberOf v))
+      _ -> intUnary xM 0 (\n _ -> pure $! f n) typedInt
     {-# INLINE onNumber #-}
     -- the number unchanged: a variable is read as it is
     same = case xM of
@@ -999,7 +1046,7 @@ compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Run s Value
 compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
   Nothing -> \_ m -> malformed line m
   Just fn -> \e m -> do
-    fr <- V.thaw (fnFrame fn)
+    fr <- startFrame (fnFrame fn)
     later <- passArguments fr argsM e m
     bad <- hasFailed m
     if bad
@@ -1022,7 +1069,7 @@ compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
 -- parameter in the frame is written into the new frame at once (nothing
 -- can see that frame yet); the writes to a parameter elsewhere are returned,
 -- to be made once every argument is evaluated and the frame installed.
-passArguments :: MV.MVector s Value -> [(Var, Meaning s)] -> Env -> Machine s -> ST s [Run s ()]
+passArguments :: CallFrame s -> [(Var, Meaning s)] -> Env -> Machine s -> ST s [Run s ()]
 passArguments fr = go
   where
     go [] _ _ = pure []
@@ -1032,7 +1079,7 @@ passArguments fr = go
       if bad
         then pure []
         else case varHome param of
-          Frame i -> writeSlot fr i x >> go rest e m
+          Frame i -> writeFrame fr i x >> go rest e m
           _ -> (writeRun param 0 x :) <$> go rest e m
 
 compileStmt :: Ctx -> CStmt -> Run s Flow
@@ -1043,7 +1090,7 @@ compileStmt ctx = \case
      in case target of
           LTVar v -> case varHome v of
             Data i -> toSlot (\m val -> writeSlot (mData m) i val)
-            Frame i -> toSlot (\m val -> readSTRef (mFrame m) >>= \f -> writeSlot f i val)
+            Frame i -> toSlot (\m val -> readSTRef (mFrame m) >>= \f -> writeFrame f i val)
             _ ->
               let w = writeRun v 0
                in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
