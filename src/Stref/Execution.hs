@@ -182,8 +182,9 @@ runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
     prepare sources = do
       if initialise then initialiseData else pure ()
       -- VAR_INPUT and VAR_IN_OUT: copied in on every call (MT-PARAM-3, MT-PARAM-5)
-      memory <- getMemory
-      mapM_ (copyIn memory) (zip (cpInputs prog ++ cpInOuts prog) sources)
+      case zip (cpInputs prog ++ cpInOuts prog) sources of
+        [] -> pure () -- no parameters (P modules)
+        params -> getMemory >>= \memory -> mapM_ (copyIn memory) params
     copyIn memory (v, src) =
       mapM_ (\k -> writeElement v k (sourceRead memory src (varBasicType v) k)) [0 .. varElements v - 1]
     copyBack sources m =
@@ -198,7 +199,9 @@ runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
               (\mm k -> sourceWrite src k (readNow m v k) mm)
               mem
               [0 .. varElements v - 1]
-       in m {snMemory = foldl' writeBack (snMemory m) pairs}
+       in case pairs of
+            [] -> m -- nothing to copy back (P modules)
+            _ -> m {snMemory = foldl' writeBack (snMemory m) pairs}
     readNow m v k = snapshotElement env m v k
     keep sn = case pLifetime pol of
       Retained -> Just (IM.fromDistinctAscList (zip [0 ..] (V.toList (snData sn))))
