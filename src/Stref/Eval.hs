@@ -204,8 +204,8 @@ currentMemory m = do
 
 -- | Write a cell's pattern (masked to its width) into the machine: the
 -- diagnostic band at the end of a call.
-writeMachineCell :: Machine s -> Cell -> Word32 -> ST s ()
-writeMachineCell m c w = case lookupSlot (mCellSlots m) (cellKey c) of
+writeMachineCell :: Machine s -> Cell -> CellKey -> Word32 -> ST s ()
+writeMachineCell m c key w = case lookupSlot (mCellSlots m) key of
   j
     | j >= 0 -> writeCellValue (mCells m) j (w .&. cellMask c)
     | otherwise -> modifySTRef' (mMemory m) (writeCell c w)

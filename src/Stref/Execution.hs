@@ -123,7 +123,7 @@ runCompiledLazyVars = runCompiledWith False
 
 runCompiledWith :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
 runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm of
-  CallSetup mappedChecked noParameters table band initialiseData -> \ci st ->
+  CallSetup mappedChecked noParameters table band bandKeyed initialiseData -> \ci st ->
     let (input1, _, _) = ciInputs ci
         checks = do
           mappedChecked
@@ -131,7 +131,7 @@ runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm of
           case (ciChfIn ci, ciChfOut ci) of
             ([], []) -> noParameters
             (ins, outs) -> checkChfParameters (pErrorLineBeforeStart pol) cfg (cmProgram cm) ins outs
-     in runChecked eagerVars pol cm compiled table initialiseData band input1 checks ci st
+     in runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
 
 -- | What does not depend on the call, computed once for all the calls of a
 -- module: the checks of the mapped operands and of an empty CHF parameter
@@ -144,6 +144,7 @@ data CallSetup = CallSetup
   !(Either RuntimeError [ParamSource])
   !CellSlots
   ![Cell]
+  ![(Cell, CellKey, Word32)] -- ^ the band's cells, keys, and patterns after a call without error
   (forall s. Exec s ())
 
 callSetup :: Policies -> PlcConfig -> CModule -> CallSetup
@@ -154,6 +155,7 @@ callSetup pol cfg cm =
     (checkChfParameters lineBefore cfg prog [] [])
     (cellSlots (mappedCells (cmMapped cm) ++ band))
     band
+    [(c, cellKey c, bandPattern x) | (c, x) <- zip band noErrorBand]
     initialiseData
   where
     prog = cmProgram cm
@@ -165,8 +167,8 @@ callSetup pol cfg cm =
       mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
       mapM_ initVar (cmInits cm)
 
-runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
-runChecked eagerVars pol cm compiled table initialiseData band input1 checks ci st
+runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, CellKey, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
+runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
       -- stay off and nothing else changes (not even the diagnostics)
@@ -191,10 +193,9 @@ runChecked eagerVars pol cm compiled table initialiseData band input1 checks ci 
         [] -> do
           -- nothing to copy back (P modules): the band is written in the
           -- machine, where its cells are held
-          let values = case r of
-                Done _ -> noErrorBand
-                Failed err -> errorBand err
-          mapM_ (\(c, x) -> writeMachineCell m c (bandPattern x)) (zip band values)
+          case r of
+            Done _ -> mapM_ (\(c, k, w) -> writeMachineCell m c k w) bandKeyed
+            Failed err -> mapM_ (\((c, k, _), x) -> writeMachineCell m c k (bandPattern x)) (zip bandKeyed (errorBand err))
           sn <- snapshot m
           pure $ case r of
             Done _ -> finish False (keep sn) (Right ()) sn
