@@ -202,13 +202,13 @@ currentMemory m = do
   held <- U.freeze (mCells m)
   pure (putCells (mCellSlots m) held rest)
 
--- | Write a cell's pattern (masked to its width) into the machine: the
--- diagnostic band at the end of a call.
-writeMachineCell :: Machine s -> Cell -> CellKey -> Word32 -> ST s ()
-writeMachineCell m c key w = case lookupSlot (mCellSlots m) key of
-  j
-    | j >= 0 -> writeCellValue (mCells m) j (w .&. cellMask c)
-    | otherwise -> modifySTRef' (mMemory m) (writeCell c w)
+-- | Write a cell's pattern (masked to its width) into the machine, given
+-- its slot in the machine's table ('lookupSlot', -1 for a cell the table
+-- does not hold): the diagnostic band at the end of a call.
+writeMachineCell :: Machine s -> Cell -> Int -> Word32 -> ST s ()
+writeMachineCell m c j w
+  | j >= 0 = writeCellValue (mCells m) j (w .&. cellMask c)
+  | otherwise = modifySTRef' (mMemory m) (writeCell c w)
 
 readCellValue :: MU.MVector s Int -> Int -> ST s Word32
 readCellValue vals j = fromIntegral <$> MU.unsafeRead vals j

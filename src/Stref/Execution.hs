@@ -144,7 +144,7 @@ data CallSetup = CallSetup
   !(Either RuntimeError [ParamSource])
   !CellSlots
   ![Cell]
-  ![(Cell, CellKey, Word32)] -- ^ the band's cells, keys, and patterns after a call without error
+  ![(Cell, Int, Word32)] -- ^ the band's cells, their slots in the table, their patterns after a call without error
   (forall s. Exec s ())
 
 callSetup :: Policies -> PlcConfig -> CModule -> CallSetup
@@ -153,21 +153,22 @@ callSetup pol cfg cm =
   CallSetup
     (checkMappedOperands lineBefore cfg (cmMapped cm))
     (checkChfParameters lineBefore cfg prog [] [])
-    (cellSlots (mappedCells (cmMapped cm) ++ band))
+    table
     band
-    [(c, cellKey c, bandPattern x) | (c, x) <- zip band noErrorBand]
+    [(c, lookupSlot table (cellKey c), bandPattern x) | (c, x) <- zip band noErrorBand]
     initialiseData
   where
     prog = cmProgram cm
     lineBefore = pErrorLineBeforeStart pol -- A2
     band = bandCells cfg
+    table = cellSlots (mappedCells (cmMapped cm) ++ band)
     -- the initialisation of the data area, translated once
     initialiseData :: Exec s ()
     initialiseData = do
       mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
       mapM_ initVar (cmInits cm)
 
-runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, CellKey, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
+runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
 runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
