@@ -1,5 +1,6 @@
 {-# OPTIONS_GHC -O2 #-}
 -- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
+{-# LANGUAGE MagicHash #-}
 -- | PLC operands (catalogue §7.3, Tables 2-3 and 4-8): which operands the
 -- language knows, which types may be mapped onto them, the controller's
 -- configuration (which operands are declared) and its memory.
@@ -53,6 +54,7 @@ module Stref.Operands
 import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.), (.|.))
 import Data.Char (isDigit, isSpace, toUpper)
 import Data.List (nub)
+import GHC.Exts (isTrue#, reallyUnsafePtrEquality#)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -375,12 +377,17 @@ heldPattern w = (1 `shiftL` 32) .|. fromIntegral w
 -- (the memory a call with the same table left).
 takeCells :: CellSlots -> Memory -> (Memory, U.Vector Int)
 takeCells ct mem@(Memory m held) = case held of
-  HeldCells ct' vals | ctKeys ct' == ctKeys ct -> (Memory m NoHeldCells, vals)
+  HeldCells ct' vals | sameTable ct' ct -> (Memory m NoHeldCells, vals)
   _ ->
     let whole = memoryMap mem
         cells = [(j, V.unsafeIndex (ctCells ct) j) | j <- U.toList (ctUsed ct)]
         vals = U.replicate (ctMask ct + 1) 0 U.// [(j, heldPattern w) | (j, c) <- cells, Just w <- [M.lookup c whole]]
      in (Memory (foldr (M.delete . snd) whole cells) NoHeldCells, vals)
+
+-- | Whether two tables place the same cells in the same slots: at once when
+-- they are one table (every call of a module uses one), else by their keys.
+sameTable :: CellSlots -> CellSlots -> Bool
+sameTable a b = isTrue# (reallyUnsafePtrEquality# a b) || ctKeys a == ctKeys b
 
 -- | The inverse of 'takeCells': the memory with the table's cells holding
 -- the given patterns (the memory must not hold them itself).
