@@ -162,11 +162,17 @@ callSetup pol cfg cm =
     lineBefore = pErrorLineBeforeStart pol -- A2
     band = bandCells cfg
     table = cellSlots (mappedCells (cmMapped cm) ++ band)
-    -- the initialisation of the data area, translated once
+    -- the initialisation of the data area, translated once; the machine's
+    -- data area starts at the type defaults whenever it is initialised (no
+    -- retained slots then), so a variable there without an initialiser
+    -- needs no write
     initialiseData :: Exec s ()
     initialiseData = do
-      mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
-      mapM_ initVar (cmInits cm)
+      mapM_ initVar (filter needsWrite (map (`VarInit` Nothing) (cpOutputs prog))) -- A21
+      mapM_ initVar (filter needsWrite (cmInits cm))
+    needsWrite vi = case (varHome (viVar vi), viInit vi) of
+      (Data _, Nothing) -> False
+      _ -> True
 
 runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
 runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
