@@ -15,6 +15,17 @@ bitsOf = realBits . realLiteral
 
 spec :: Spec
 spec = do
+  describe "binary32 classes (IEEE 754 encodings: exponent all ones)" $ do
+    it "the largest finite binary32 is 16#7F7FFFFF" $ realBits realMax `shouldBe` 0x7F7FFFFF
+    it "the infinities are 16#7F800000 and 16#FF800000, nothing else" $
+      property $ \(w :: Word32) ->
+        isRealInfinite (realFromBits w) === (w == 0x7F800000 || w == 0xFF800000)
+    it "NaN is an all-ones exponent with a nonzero significand" $
+      property $ \(w :: Word32) ->
+        isRealNaN (realFromBits w) === (w `mod` 0x80000000 > 0x7F800000)
+    it "the edge patterns: 16#7F7FFFFF finite, 16#7F800000 infinite, 16#7F800001 and 16#FFC00000 NaN" $
+      map (\w -> (isRealInfinite (realFromBits w), isRealNaN (realFromBits w))) [0x7F7FFFFF, 0x7F800000, 0x7F800001, 0xFFC00000]
+        `shouldBe` [(False, False), (True, False), (False, True), (False, True)]
   describe "realLiteral: nearest binary32, ties to even" $ do
     -- 1254.4879 lies in [1024, 2048), spacing 2^-13: 1254.4879 * 8192 =
     -- 10276764.88..., rounded to 10276765 = 1254.4879150390625 * 8192;

@@ -12,7 +12,10 @@
 -- built), and a module call is one 'runST'. A runtime error stops the
 -- closures; the machine keeps the state at the moment it occurred (operand
 -- writes made before an error persist, MT-EXEC-8).
+{-# LANGUAGE MagicHash #-}
+{-# LANGUAGE MultiWayIf #-}
 {-# LANGUAGE RankNTypes #-}
+{-# LANGUAGE UnboxedTuples #-}
 module Stref.Eval
   ( -- * The machine
     Machine (..)
@@ -45,17 +48,21 @@ module Stref.Eval
   ) where
 
 import Control.Monad.ST (ST)
+import Data.Bits (xor, (.&.), (.|.))
+import GHC.Exts (Float (F#), Float#, Int (I#), Int#, State#)
+import GHC.ST (ST (..))
 import qualified Data.IntMap.Strict as IM
-import Data.Int (Int32)
+import Data.Int (Int16, Int32)
 import Data.IntMap.Strict (IntMap)
+import Data.List (partition)
 import Data.STRef
-import Data.Bits ((.&.))
 import Data.Word (Word32)
 import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.Checked
+import Stref.Conversions (convert)
 import Stref.Diagnostics
 import Stref.Eval.Fast
 import Stref.Operands
@@ -67,16 +74,16 @@ import Stref.Values
 -- | The state one module call works on: mutable slots, valid inside one
 -- 'runST'.
 data Machine s = Machine
-  { mData :: !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
-  , mFrame :: !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
-  , mMemory :: !(STRef s Memory) -- ^ the PLC operands, but for those of 'mCells'
+  { mData :: {-# UNPACK #-} !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
+  , mFrame :: {-# UNPACK #-} !(STRef s (MV.MVector s Value)) -- ^ the active function call's frame (MT-SCOPE-7)
+  , mMemory :: {-# UNPACK #-} !(STRef s Memory) -- ^ the PLC operands, but for those of 'mCells'
   , mCellSlots :: !CellSlots -- ^ the module's mapped cells ...
-  , mCells :: !(MU.MVector s Int) -- ^ ... and their patterns during the call ('heldPattern')
-  , mCounters :: !(MU.MVector s Int)
+  , mCells :: {-# UNPACK #-} !(MU.MVector s Int) -- ^ ... and their patterns during the call ('heldPattern')
+  , mCounters :: {-# UNPACK #-} !(MU.MVector s Int)
   -- ^ steps used of the budget (MT-EXEC-7), INTERNAL_OVERFLOW (MT-OP-7),
   -- OUTPUT1..3 (MT-SIG-4), whether a runtime error occurred, at the
   -- indices below
-  , mError :: !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
+  , mError :: {-# UNPACK #-} !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
   }
 
 ixSteps, ixOverflow, ixFailed :: Int
@@ -416,7 +423,14 @@ data CompiledModule = CompiledModule
   }
 
 -- | The meaning of a function: arguments to result.
-newtype Function = Function (forall s. [Value] -> Run s Value)
+data Function = Function
+  { fnFrame :: V.Vector Value
+  -- ^ the frame a call starts from (MT-SCOPE-7): the result at its type
+  -- default, the locals kept in the frame at their initial values, the
+  -- rest at their type defaults until the arguments are written
+  , fnParams :: [Var] -- ^ the parameters in declaration order (MT-POU-5)
+  , fnRun :: forall s. Run s Value -- ^ the call, once its frame is installed
+  }
 
 data Ctx = Ctx
   { cxPolicies :: Policies
@@ -431,7 +445,7 @@ data Ctx = Ctx
 -- The 'Leaf' says when the expression is a constant or a variable in a slot,
 -- so that an operator over it reads the slot itself instead of calling a
 -- closure (the most common operands; a call per leaf would dominate).
-data Meaning s = Meaning !Bool (Run s Value) !Leaf
+data Meaning s = Meaning !Bool (Run s Value) !Leaf !(Typed s)
 
 data Leaf
   = Constant !Value
@@ -446,7 +460,7 @@ data Staged s = Staged !(Run s Value)
 
 -- | An expression that is none of the leaves.
 computed :: Bool -> Run s Value -> Meaning s
-computed canFail r = Meaning canFail r Computed
+computed canFail r = Meaning canFail r Computed Untyped
 
 staged :: Bool -> Staged s -> Meaning s
 staged canFail (Staged r) = computed canFail r
@@ -455,12 +469,187 @@ staged canFail (Staged r) = computed canFail r
 -- closure that does the read itself (inlined there), else the operand's
 -- closure.
 withOperand :: Meaning s -> (Run s Value -> r) -> r
-withOperand (Meaning _ r leaf) k = case leaf of
+withOperand (Meaning _ r leaf _) k = case leaf of
   Constant c -> k (\_ _ -> pure c)
   DataSlot i d -> k (\_ m -> readSlot (mData m) d i)
   FrameSlot i d -> k (\_ m -> readSTRef (mFrame m) >>= \f -> readSlot f d i)
   Computed -> k r
 {-# INLINE withOperand #-}
+
+--------------------------------------------------------------------------------
+-- Typed closures
+
+-- | A closure giving the number of an expression of an integer or bit-string
+-- type ('intTyped'), returned unboxed: an operator over such closures
+-- allocates nothing, where a 'Value' would be built and taken apart at every
+-- node of the expression.
+type IntRun s = Env -> Machine s -> State# s -> (# State# s, Int# #)
+
+-- | An 'IntRun' written in 'ST' (inlined: the 'Int' is never built).
+intRun :: (Env -> Machine s -> ST s Int) -> IntRun s
+intRun f = \e m s -> case f e m of ST g -> case g s of (# s', I# n #) -> (# s', n #)
+{-# INLINE intRun #-}
+
+runInt :: IntRun s -> Env -> Machine s -> ST s Int
+runInt r e m = ST (\s -> case r e m s of (# s', n #) -> (# s', I# n #))
+{-# INLINE runInt #-}
+
+-- | A closure giving the binary32 value of a REAL expression unboxed.
+type RealRun s = Env -> Machine s -> State# s -> (# State# s, Float# #)
+
+realRun :: (Env -> Machine s -> ST s Float) -> RealRun s
+realRun f = \e m s -> case f e m of ST g -> case g s of (# s', F# x #) -> (# s', x #)
+{-# INLINE realRun #-}
+
+runReal :: RealRun s -> Env -> Machine s -> ST s Float
+runReal r e m = ST (\s -> case r e m s of (# s', x #) -> (# s', F# x #))
+{-# INLINE runReal #-}
+
+-- | The typed form of an expression, when it has one.
+data Typed s
+  = Untyped
+  | IntTyped !(IntRun s)
+  | IntOfLeaf !Leaf -- ^ the number of a leaf of another integer type (a widening conversion of a variable)
+  | RealTyped !(RealRun s)
+
+data StagedReal s = StagedReal !(RealRun s)
+
+-- | The binary32 value of a REAL value (the checker gives each expression
+-- one type, so nothing else comes here).
+realOf :: Value -> Float
+realOf = \case
+  VReal x -> x
+  _ -> 0
+{-# INLINE realOf #-}
+
+-- | A REAL expression given by its typed closure.
+realMeaning :: Bool -> StagedReal s -> Meaning s
+realMeaning canFail (StagedReal r) = case Staged (\e m -> runReal r e m >>= \x -> pure $! VReal x) of
+  Staged g -> Meaning canFail g Computed (RealTyped r)
+
+-- | A typed closure built by a step of translation (see 'Staged').
+data StagedInt s = StagedInt !(IntRun s)
+
+-- | The types whose values the typed closures carry as a machine 'Int' (all
+-- at most 32 bits wide).
+intTyped :: BasicType -> Bool
+intTyped t = t `elem` [INT, DINT, USINT, BYTE, WORD, DWORD]
+
+-- | The number of a value of an 'intTyped' type (the checker gives each
+-- expression one type, so a REAL never comes here).
+numberOf :: Value -> Int
+numberOf v = case valueToInt v of
+  Just n -> n
+  Nothing -> 0
+{-# INLINE numberOf #-}
+
+-- | An expression of an 'intTyped' type given by its typed closure; its
+-- 'Value' closure boxes the number as the type's value.
+intMeaning :: Bool -> BasicType -> StagedInt s -> Meaning s
+intMeaning canFail t (StagedInt r) = case boxed t r of
+  Staged g -> Meaning canFail g Computed (IntTyped r)
+
+-- | The value of a typed closure's number, the type chosen once.
+boxed :: BasicType -> IntRun s -> Staged s
+boxed t r = case t of
+  INT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VInt (fromIntegral n)
+  DINT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VDInt (fromIntegral n)
+  USINT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VUSInt (fromIntegral n)
+  BYTE -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VByte (fromIntegral n)
+  WORD -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VWord (fromIntegral n)
+  DWORD -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VDWord (fromIntegral n)
+  _ -> Staged $ \e m -> runInt r e m >>= \n -> pure $! intToValue t n
+
+-- | The typed closure of an operand of an 'intTyped' type: a leaf read
+-- directly, a typed closure as it is, any other closure's value taken apart.
+intRunOf :: Meaning s -> IntRun s
+intRunOf (Meaning _ r leaf typed) = case (leaf, typed) of
+  (Computed, IntTyped ir) -> ir
+  (Computed, IntOfLeaf l) -> ofLeaf l
+  (Computed, _) -> intRun (\e m -> numberOf <$> r e m)
+  (l, _) -> ofLeaf l
+  where
+    ofLeaf = \case
+      Constant c -> case numberOf c of I# n -> \_ _ s -> (# s, n #)
+      DataSlot i d -> intRun (\_ m -> numberOf <$> readSlot (mData m) d i)
+      FrameSlot i d -> intRun (\_ m -> readSTRef (mFrame m) >>= \f -> numberOf <$> readSlot f d i)
+      Computed -> intRun (\e m -> numberOf <$> r e m)
+-- never inlined: the choice of leaf must be made once, when the closure
+-- over it is built, not inside that closure on every run
+{-# NOINLINE intRunOf #-}
+
+-- | 'intRunOf' for a REAL operand.
+realRunOf :: Meaning s -> RealRun s
+realRunOf (Meaning _ r leaf typed) = case leaf of
+  Constant c -> case realOf c of F# x -> \_ _ s -> (# s, x #)
+  DataSlot i d -> realRun (\_ m -> realOf <$> readSlot (mData m) d i)
+  FrameSlot i d -> realRun (\_ m -> readSTRef (mFrame m) >>= \f -> realOf <$> readSlot f d i)
+  Computed -> case typed of
+    RealTyped rr -> rr
+    _ -> realRun (\e m -> realOf <$> r e m)
+{-# NOINLINE realRunOf #-}
+
+-- | Two operands left to right (decision A18), stopping at an error (then
+-- @failed@ is the result, never used), else @f@ on their values.
+twoOperands :: Bool -> (Env -> Machine s -> ST s x) -> Bool -> (Env -> Machine s -> ST s y) -> a -> (x -> y -> Machine s -> ST s a) -> Env -> Machine s -> ST s a
+twoOperands fa ra fb rb failed f = \e m -> do
+  x <- ra e m
+  bad <- if fa then hasFailed m else pure False
+  if bad
+    then pure failed
+    else do
+      y <- rb e m
+      bad' <- if fb then hasFailed m else pure False
+      if bad' then pure failed else f x y m
+{-# INLINE twoOperands #-}
+
+oneOperand :: Bool -> (Env -> Machine s -> ST s x) -> a -> (x -> Machine s -> ST s a) -> Env -> Machine s -> ST s a
+oneOperand fa ra failed f = \e m -> do
+  x <- ra e m
+  bad <- if fa then hasFailed m else pure False
+  if bad then pure failed else f x m
+{-# INLINE oneOperand #-}
+
+-- | 'twoOperands' on the numbers of two operands of an 'intTyped' type;
+-- @wrap@ receives the closure. Inlined where @f@ and @wrap@ are known: one
+-- closure per operator, with the operator's code in it, the operands'
+-- closures chosen before it is built.
+intBinary :: Meaning s -> Meaning s -> a -> (Int -> Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+intBinary ma mb failed f wrap = case (intRunOf ma, mb) of
+  -- a constant right operand (x + 1, i * 7, n MOD 16) is part of the closure
+  (!ra, Meaning _ _ (Constant c) _) -> case numberOf c of
+    !y -> wrap (oneOperand (failsM ma) (runInt ra) failed (\x m -> f x y m))
+  (!ra, _) -> case intRunOf mb of
+    !rb -> wrap (twoOperands (failsM ma) (runInt ra) (failsM mb) (runInt rb) failed f)
+{-# INLINE intBinary #-}
+
+intUnary :: Meaning s -> a -> (Int -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+intUnary ma failed f wrap = case intRunOf ma of
+  !ra -> wrap (oneOperand (failsM ma) (runInt ra) failed f)
+{-# INLINE intUnary #-}
+
+-- | 'intBinary' for REAL operands.
+realBinary :: Meaning s -> Meaning s -> a -> (Float -> Float -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+realBinary ma mb failed f wrap = case (realRunOf ma, realRunOf mb) of
+  (!ra, !rb) -> wrap (twoOperands (failsM ma) (runReal ra) (failsM mb) (runReal rb) failed f)
+{-# INLINE realBinary #-}
+
+realUnary :: Meaning s -> a -> (Float -> Machine s -> ST s a) -> ((Env -> Machine s -> ST s a) -> b) -> b
+realUnary ma failed f wrap = case realRunOf ma of
+  !ra -> wrap (oneOperand (failsM ma) (runReal ra) failed f)
+{-# INLINE realUnary #-}
+
+-- | The wrappers for the typed closures.
+typedInt :: (Env -> Machine s -> ST s Int) -> StagedInt s
+typedInt r = StagedInt (intRun r)
+{-# INLINE typedInt #-}
+
+typedReal :: (Env -> Machine s -> ST s Float) -> StagedReal s
+typedReal r = StagedReal (realRun r)
+{-# INLINE typedReal #-}
+
+failsM :: Meaning s -> Bool
+failsM (Meaning f _ _ _) = f
 
 -- | Translate the whole module once. Functions refer to each other through
 -- the lazily built table of meanings (a knot: each function is translated
@@ -469,7 +658,7 @@ compileModule :: Policies -> CModule -> CompiledModule
 compileModule pol cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults
   where
     ctx = Ctx pol funs
-    funs = IM.map (\f -> Function (compileFunction ctx f)) (cmFunctions cm)
+    funs = IM.map (compileFunction ctx) (cmFunctions cm)
     prog = cmProgram cm
     defaults =
       slotDefaults dataSlot (cmDataSize cm) $
@@ -488,7 +677,7 @@ flowExec r = Exec $ \e m ->
 -- | An expression closure as an 'Exec'.
 compileExpr :: Ctx -> CExpr -> Exec s Value
 compileExpr ctx x =
-  let Meaning _ r _ = meaning ctx x
+  let Meaning _ r _ _ = meaning ctx x
    in Exec $ \e m -> do
         v <- r e m
         bad <- hasFailed m
@@ -497,32 +686,42 @@ compileExpr ctx x =
 -- | A function call in a fresh frame (MT-SCOPE-7): the result slot starts
 -- at its type default, the parameters take the arguments in declaration
 -- order (MT-POU-5), the locals their initial values; the result is the
--- result slot when the body ends or returns (MT-POU-4, MT-STMT-4).
-compileFunction :: Ctx -> CFunction -> [Value] -> Run s Value
-compileFunction ctx f = \args e m -> do
-  fr <- V.thaw template
-  writeSTRef (mFrame m) fr
-  sequence_ (zipWith (\w x -> w x e m) params args)
-  r <- unExec initLocals e m
-  case r of
-    Failed err -> raise m err
-    Done () ->
-      body e m >>= \case
-        Failing -> pure (VBool False)
-        _ -> readSTRef (mFrame m) >>= \fr' -> readSlot fr' result 0
+-- result slot when the body ends or returns (MT-POU-4, MT-STMT-4). The
+-- locals' initial values are constants, so they are part of the frame a
+-- call starts from; a local whose home is not in the frame is initialised
+-- on each call.
+compileFunction :: Ctx -> CFunction -> Function
+compileFunction ctx f = Function template (cfParams f) run
   where
+    run :: Run s Value
+    run e m = do
+      r <- unExec initElsewhere e m
+      case r of
+        Failed err -> raise m err
+        Done () ->
+          body e m >>= \case
+            Failing -> pure (VBool False)
+            _ -> readSTRef (mFrame m) >>= \fr -> readSlot fr result 0
     body = compileBlock ctx (cfBody f)
-    initLocals = mapM_ initVar (cfLocals f)
-    params = map (`writeRun` 0) (cfParams f)
+    (inFrame, elsewhere) = partition (isFrame . varHome . viVar) (cfLocals f)
+    initElsewhere = mapM_ initVar elsewhere
+    isFrame = \case
+      Frame _ -> True
+      _ -> False
     result = defaultValue (cfResult f)
     frameSlot = \case
       Frame i -> Just i
       _ -> Nothing
-    -- slot 0 is the result, at its default; the others at their types'
-    -- defaults until written
+    -- slot 0 is the result, at its default; the locals at their initial
+    -- values (MT-VAR-3, MT-VAR-4, MT-ARR-6, as 'initVar' writes them); the
+    -- others at their types' defaults until written
     template =
       slotDefaults frameSlot (cfFrameSize f) (cfParams f ++ map viVar (cfLocals f))
-        V.// [(0, result)]
+        V.// ((0, result) : concatMap initial inFrame)
+    initial (VarInit v ini) = case (varHome v, ini) of
+      (Frame i, Just (InitScalar x)) -> [(i + k, x) | k <- [0 .. varElements v - 1]]
+      (Frame i, Just (InitArray xs)) -> zip [i + k | k <- [0 .. varElements v - 1]] xs
+      _ -> []
 
 -- | A statement list: stops at the first EXIT, RETURN or error.
 compileBlock :: Ctx -> [CStmt] -> Run s Flow
@@ -540,7 +739,7 @@ compileBlock ctx = go . map (compileStmt ctx)
 -- | Run an expression, then the continuation with its value, unless the
 -- expression failed.
 withValue :: Meaning s -> Env -> Machine s -> (Value -> ST s Flow) -> ST s Flow
-withValue (Meaning canFail r _) e m k
+withValue (Meaning canFail r _ _) e m k
   | canFail = do
       x <- r e m
       bad <- hasFailed m
@@ -551,7 +750,7 @@ withValue (Meaning canFail r _) e m k
 -- | Evaluate two operands left to right (decision A18), stopping at an
 -- error, then combine them.
 binary :: Meaning s -> Meaning s -> (Machine s -> Value -> Value -> ST s Value) -> Bool -> Meaning s
-binary ma@(Meaning fa _ _) mb@(Meaning fb _ _) f canFail =
+binary ma@(Meaning fa _ _ _) mb@(Meaning fb _ _ _) f canFail =
   case withOperand ma $ \ra -> withOperand mb $ \rb -> Staged $ \e m -> do
       x <- ra e m
       bad <- if fa then hasFailed m else pure False
@@ -566,7 +765,7 @@ binary ma@(Meaning fa _ _) mb@(Meaning fb _ _) f canFail =
 {-# INLINE binary #-}
 
 unary :: Meaning s -> (Machine s -> Value -> ST s Value) -> Bool -> Meaning s
-unary ma@(Meaning fa _ _) f canFail =
+unary ma@(Meaning fa _ _ _) f canFail =
   case withOperand ma $ \ra -> Staged $ \e m -> do
     x <- ra e m
     bad <- if fa then hasFailed m else pure False
@@ -613,10 +812,15 @@ intBounds v = case varType v of
   _ -> Nothing
 
 elementIndexRef :: Policies -> Line -> Var -> Machine s -> Value -> ST s Int
-elementIndexRef pol line v m iv = case (valueToInteger iv, varType v) of
-  (Nothing, _) -> failed errMalformed
-  (_, Basic _) -> failed errMalformed
-  (Just k, Array lo hi _)
+elementIndexRef pol line v m iv = case valueToInteger iv of
+  Nothing -> (-1) <$ raise m (runtimeError errMalformed line)
+  Just k -> indexNumber pol line v m k
+
+-- | 'elementIndex' for the number of the index.
+indexNumber :: Policies -> Line -> Var -> Machine s -> Integer -> ST s Int
+indexNumber pol line v m k = case varType v of
+  Basic _ -> failed errMalformed
+  Array lo hi _
     | k >= lo && k <= hi -> pure (fromInteger (k - lo))
     | otherwise -> case pIndexOutOfRange pol of
         IndexError -> failed errIndex -- MT-ERR-2015
@@ -641,44 +845,136 @@ boolValue b = if b then VBool True else VBool False
 -- | The meaning of an expression.
 meaning :: Ctx -> CExpr -> Meaning s
 meaning ctx = \case
-  CLit v -> Meaning False (\_ _ -> pure v) (Constant v)
+  CLit v -> Meaning False (\_ _ -> pure v) (Constant v) Untyped
   CRead v ->
     let leaf = case varHome v of
           Data i -> DataSlot i (defaultValue (varBasicType v))
           Frame i -> FrameSlot i (defaultValue (varBasicType v))
           _ -> Computed
-     in Meaning False (readRun v 0) leaf
+     in Meaning False (readRun v 0) leaf Untyped
   CReadIndex line v ix ->
     let index = elementIndex pol line v
         -- the element closures, built once
         elements = V.generate (varElements v) (readRun v)
         def = defaultValue (varBasicType v)
-        ixM@(Meaning fi _ _) = meaning ctx (indexExpr ix)
+        ix' = indexExpr ix
+        ixM@(Meaning fi _ _ _) = meaning ctx ix'
         -- the index, unless it failed
         withIndex ri e m k = do
           iv <- ri e m
           bad <- if fi then hasFailed m else pure False
           if bad then pure iv else k iv
         {-# INLINE withIndex #-}
-     in staged True $ withOperand ixM $ \ri -> Staged $ case (varHome v, intBounds v) of
-          (Data base, Just (lo, hi)) ->
-            -- an element of the data area, the bounds checked inline
-            \e m -> withIndex ri e m $ \iv -> case valueToInt iv of
-              Just i | i >= lo && i <= hi -> readSlot (mData m) def (base + i - lo)
-              _ -> index m iv >>= \k -> if k < 0 then pure iv else readSlot (mData m) def (base + k)
-          _ -> \e m -> withIndex ri e m $ \iv ->
+     in case (varHome v, intBounds v) of
+          (Data base, Just (lo, hi))
+            | intTyped (cexprType ix') ->
+                -- an element of the data area: the index as a number, the
+                -- bounds checked inline
+                let element i m
+                      | i >= lo && i <= hi = readSlot (mData m) def (base + i - lo)
+                      | otherwise = indexNumber pol line v m (toInteger i) >>= \k -> if k < 0 then pure def else readSlot (mData m) def (base + k)
+                    {-# INLINE element #-}
+                    typed
+                      | intTyped (varBasicType v) = case intUnary ixM 0 (\i m -> numberOf <$> element i m) typedInt of
+                          StagedInt r -> IntTyped r
+                      | varBasicType v == REAL = case intUnary ixM 0 (\i m -> realOf <$> element i m) typedReal of
+                          StagedReal r -> RealTyped r
+                      | otherwise = Untyped
+                 in case intUnary ixM def element Staged of
+                      Staged r -> Meaning True r Computed typed
+          _ -> staged True $ withOperand ixM $ \ri -> Staged $ \e m -> withIndex ri e m $ \iv ->
             index m iv >>= \k ->
               if k < 0
                 then pure iv
                 else maybe (malformed line m) (\r -> r e m) (elements V.!? k)
-  CConv from to x -> case convertFast pol from to of
-    Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
+  CConv from to x
+    | Just m <- intConversion ctx from to x -> m
+    | to == REAL && from `elem` [INT, USINT] ->
+        -- exact: every INT and USINT is a binary32 (MT-CONV-5)
+        let xM = meaning ctx x
+         in realMeaning (failsM xM) (intUnary xM 0 (\n _ -> pure $! fromIntegral n) typedReal)
+    | otherwise -> case convertFast pol from to of
+        Unary conv -> unary (meaning ctx x) (\_ v -> pure $! conv v) False -- MT-CONV-5
   CNeg line _ x -> unary (meaning ctx x) (\m v -> outcome line m (O.negateValue pol v)) True -- MT-OP-4, MT-OP-6
   CNot _ x -> unary (meaning ctx x) (\_ v -> pure $! O.notValue v) False -- MT-OP-14
+  CArith line op t a b
+    | t `elem` [INT, DINT, USINT] ->
+        -- MT-OP-4..10 on numbers, the outcome written straight to the machine
+        let ma = meaning ctx a
+            mb = meaning ctx b
+            canFail = failsM ma || failsM mb || arithCanFail pol op t
+            flagged m n o = (pure $! n) <* MU.unsafeWrite (mCounters m) ixOverflow (fromEnum o) -- MT-OP-7
+            plain n = pure $! n
+            raised m c = 0 <$ raise m (runtimeError c line)
+            !ia = intArith pol t
+            on o = intMeaning canFail t (intBinary ma mb 0 (\x y m -> intOp (flagged m) plain (raised m) ia o x y) typedInt)
+            {-# INLINE on #-}
+         in case op of
+              OpAdd -> on OpAdd
+              OpSub -> on OpSub
+              OpMul -> on OpMul
+              OpDiv -> on OpDiv
+              OpMod -> on OpMod
+  CArith line op REAL a b ->
+    -- MT-OP-4, A6 on binary32 values
+    let ma = meaning ctx a
+        mb = meaning ctx b
+        canFail = failsM ma || failsM mb || arithCanFail pol op REAL
+        flagged m x o = (pure $! x) <* MU.unsafeWrite (mCounters m) ixOverflow (fromEnum o) -- MT-OP-7
+        plain x = pure $! x
+        raised m c = 0 <$ raise m (runtimeError c line)
+        on o = realMeaning canFail (realBinary ma mb 0 (\x y m -> O.realArithWith (flagged m) plain (raised m) pol o x y) typedReal)
+        {-# INLINE on #-}
+     in case op of
+          OpAdd -> on OpAdd
+          OpSub -> on OpSub
+          OpMul -> on OpMul
+          OpDiv -> on OpDiv
+          OpMod -> on OpMod
   CArith line op t a b -> case arithFast pol op t of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
+  CCompare op t a b
+    | intTyped t ->
+        -- MT-OP-11 on numbers
+        let ma = meaning ctx a
+            mb = meaning ctx b
+            on cmp = case intBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmp x y))) Staged of
+              Staged r -> computed (failsM ma || failsM mb) r
+            {-# INLINE on #-}
+         in case op of
+              OpLt -> on (<)
+              OpGt -> on (>)
+              OpLe -> on (<=)
+              OpGe -> on (>=)
+              OpEq -> on (==)
+              OpNe -> on (/=)
+  CCompare op REAL a b ->
+    -- MT-OP-11 in IEEE order
+    let ma = meaning ctx a
+        mb = meaning ctx b
+        on cmp = case realBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmp x y))) Staged of
+          Staged r -> computed (failsM ma || failsM mb) r
+        {-# INLINE on #-}
+     in case op of
+          OpLt -> on (<)
+          OpGt -> on (>)
+          OpLe -> on (<=)
+          OpGe -> on (>=)
+          OpEq -> on (==)
+          OpNe -> on (/=)
   CCompare op _ a b -> case compareFast op of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (boolValue (f x y))) False
+  CLogic op t a b
+    | t `elem` [BYTE, WORD, DWORD] ->
+        -- MT-OP-12..14 bit by bit on the numbers (both below 2^32)
+        let ma = meaning ctx a
+            mb = meaning ctx b
+            on f = intMeaning (failsM ma || failsM mb) t (intBinary ma mb 0 (\x y _ -> pure $! f x y) typedInt)
+            {-# INLINE on #-}
+         in case op of
+              OpAnd -> on (.&.)
+              OpOr -> on (.|.)
+              OpXor -> on xor
   CLogic op t a b ->
     let eager = binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure $! O.logic op x y) False
      in case (pShortCircuit pol, t, op) of
@@ -689,8 +985,8 @@ meaning ctx = \case
           _ -> eager
     where
       shortCircuit decisive =
-        let Meaning fa ra _ = meaning ctx a
-            Meaning fb rb _ = meaning ctx b
+        let Meaning fa ra _ _ = meaning ctx a
+            Meaning fb rb _ _ = meaning ctx b
          in computed (fa || fb) $ \e m -> do
               x <- ra e m
               bad <- if fa then hasFailed m else pure False
@@ -705,14 +1001,70 @@ meaning ctx = \case
   where
     pol = cxPolicies ctx
 
+-- | The conversions (MT-CONV-5, Table 4-6) to an 'intTyped' type that have a
+-- typed closure: those keeping the number, the narrowing of a DINT under
+-- either @narrow-int@ alternative, and REAL to DINT or INT under the
+-- saturating @real-to-int@ alternatives (as "Stref.Eval.Fast" does on values;
+-- NaN, infinities and magnitudes from 2^31 go to the reference).
+intConversion :: Ctx -> BasicType -> BasicType -> CExpr -> Maybe (Meaning s)
+intConversion ctx from to x = case (from, to) of
+  (INT, DINT) -> same
+  (USINT, INT) -> same
+  (USINT, DINT) -> same
+  (BYTE, WORD) -> same
+  (BYTE, DWORD) -> same
+  (WORD, DWORD) -> same
+  (DINT, INT) -> narrowing
+  (DINT, BYTE) -> narrowing
+  (DINT, WORD) -> narrowing
+  (REAL, DINT) -> fromReal
+  (REAL, INT) -> fromReal
+  _ -> Nothing
+  where
+    pol = cxPolicies ctx
+    xM = meaning ctx x
+    onNumber f = Just (intMeaning (failsM xM) to (intUnary xM 0 (\n _ -> pure $! f n) typedInt))
+    {-# INLINE onNumber #-}
+    -- the number unchanged: a variable is read as it is
+    same = case xM of
+      Meaning canFail _ leaf _
+        | isSlot leaf -> case onNumber id of
+            Just (Meaning _ g _ _) -> Just (Meaning canFail g Computed (IntOfLeaf leaf))
+            Nothing -> Nothing
+      _ -> onNumber id
+    isSlot = \case
+      DataSlot {} -> True
+      FrameSlot {} -> True
+      _ -> False
+    (lo, hi) = range to
+    -- C16, C17, C44-C47: the low bits, or the nearest value
+    narrowing = case (pNarrowInt pol, to) of
+      (NarrowSaturate, _) -> onNumber (\n -> max lo (min hi n))
+      (NarrowWrap, INT) -> onNumber (\n -> fromIntegral (fromIntegral n :: Int16))
+      (NarrowWrap, _) -> onNumber (.&. hi)
+    -- C52, C53 (see 'convertFast')
+    fromReal = case pRealToInt pol of
+      TruncateSaturate -> onReal (\r -> max lo (min hi (truncate r)))
+      RoundEvenSaturate -> onReal (\r -> max lo (min hi (round r)))
+      RoundEvenWrap -> Nothing
+    reference = convert pol from to
+    onReal f =
+      let toNumber = \case
+            VReal r | abs r < 2147483648 -> f r
+            v -> numberOf (reference v)
+          {-# INLINE toNumber #-}
+       in Just (intMeaning (failsM xM) to (realUnary xM 0 (\r _ -> pure $! toNumber (VReal r)) typedInt))
+    {-# INLINE onReal #-}
+
 -- | A call: arguments left to right (decision A18), then a new frame one
 -- level deeper; a 17th nested frame is runtime error 2050 at the line of the
 -- call (MT-POU-9, decision A27). The caller's frame comes back afterwards.
 compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Run s Value
 compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
   Nothing -> \_ m -> malformed line m
-  Just (Function fun) -> \e m -> do
-    vs <- evalArgs argsM e m
+  Just fn -> \e m -> do
+    fr <- V.thaw (fnFrame fn)
+    later <- passArguments fr argsM e m
     bad <- hasFailed m
     if bad
       then pure (VBool False)
@@ -721,19 +1073,31 @@ compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
           then raise m (runtimeError errCallDepth line) -- MT-ERR-2050
           else do
             saved <- readSTRef (mFrame m)
-            r <- fun vs e {envDepth = envDepth e + 1} m
+            writeSTRef (mFrame m) fr
+            let e' = e {envDepth = envDepth e + 1}
+            mapM_ (\w -> w e' m) later
+            r <- fnRun fn e' m
             writeSTRef (mFrame m) saved
             pure r
-  where
-    argsM = map (meaning ctx) args
+    where
+      argsM = zip (fnParams fn) (map (meaning ctx) args)
 
--- | The arguments left to right, stopping at the first error.
-evalArgs :: [Meaning s] -> Env -> Machine s -> ST s [Value]
-evalArgs [] _ _ = pure []
-evalArgs (Meaning f r _ : rest) e m = do
-  x <- r e m
-  bad <- if f then hasFailed m else pure False
-  if bad then pure [] else (x :) <$> evalArgs rest e m
+-- | The arguments left to right, stopping at the first error: one for a
+-- parameter in the frame is written into the new frame at once (nothing
+-- can see that frame yet); the writes to a parameter elsewhere are returned,
+-- to be made once every argument is evaluated and the frame installed.
+passArguments :: MV.MVector s Value -> [(Var, Meaning s)] -> Env -> Machine s -> ST s [Run s ()]
+passArguments fr = go
+  where
+    go [] _ _ = pure []
+    go ((param, Meaning f r _ _) : rest) e m = do
+      x <- r e m
+      bad <- if f then hasFailed m else pure False
+      if bad
+        then pure []
+        else case varHome param of
+          Frame i -> writeSlot fr i x >> go rest e m
+          _ -> (writeRun param 0 x :) <$> go rest e m
 
 compileStmt :: Ctx -> CStmt -> Run s Flow
 compileStmt ctx = \case
@@ -742,21 +1106,55 @@ compileStmt ctx = \case
     let xM = meaning ctx x
      in case target of
           LTVar v -> case varHome v of
-            Data i -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ writeSlot (mData m) i val
+            Data i -> toSlot (\m val -> writeSlot (mData m) i val)
+            Frame i -> toSlot (\m val -> readSTRef (mFrame m) >>= \f -> writeSlot f i val)
             _ ->
               let w = writeRun v 0
                in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
+            where
+              -- a slot of the data area or of the frame; a typed
+              -- expression's number is boxed as the slot's value here,
+              -- without calling its 'Value' closure
+              toSlot :: (forall s'. Machine s' -> Value -> ST s' ()) -> Run s Flow
+              toSlot write = case xM of
+                Meaning canFail _ Computed (IntTyped r) ->
+                  let assign mk = \e m -> stepThen line m $ do
+                        n <- runInt r e m
+                        bad <- if canFail then hasFailed m else pure False
+                        if bad then pure Failing else Next <$ write m (mk n)
+                      {-# INLINE assign #-}
+                   in case cexprType x of
+                        INT -> assign (\n -> VInt (fromIntegral n))
+                        DINT -> assign (\n -> VDInt (fromIntegral n))
+                        USINT -> assign (\n -> VUSInt (fromIntegral n))
+                        BYTE -> assign (\n -> VByte (fromIntegral n))
+                        WORD -> assign (\n -> VWord (fromIntegral n))
+                        DWORD -> assign (\n -> VDWord (fromIntegral n))
+                        t -> assign (intToValue t)
+                Meaning canFail _ Computed (RealTyped r) -> \e m -> stepThen line m $ do
+                  val <- runReal r e m
+                  bad <- if canFail then hasFailed m else pure False
+                  if bad then pure Failing else Next <$ write m (VReal val)
+                _ -> \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ write m val
+              {-# INLINE toSlot #-}
           LTIndex iline v ix ->
-            let ixM = meaning ctx (indexExpr ix)
+            let ix' = indexExpr ix
+                ixM = meaning ctx ix'
                 index = elementIndex pol iline v
                 writers = V.generate (varElements v) (writeRun v)
              in case (varHome v, intBounds v) of
-                  (Data base, Just (lo, hi)) ->
-                    -- an element of the data area, the bounds checked inline
-                    \e m -> stepThen line m $ withValue xM e m $ \val ->
-                      withValue ixM e m $ \iv -> case valueToInt iv of
-                        Just i | i >= lo && i <= hi -> Next <$ writeSlot (mData m) (base + i - lo) val
-                        _ -> index m iv >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
+                  (Data base, Just (lo, hi))
+                    | intTyped (cexprType ix') ->
+                        -- an element of the data area: the index as a number,
+                        -- the bounds checked inline
+                        let !ri = intRunOf ixM
+                         in \e m -> stepThen line m $ withValue xM e m $ \val -> do
+                          i <- runInt ri e m
+                          bad <- if failsM ixM then hasFailed m else pure False
+                          if
+                            | bad -> pure Failing
+                            | i >= lo && i <= hi -> Next <$ writeSlot (mData m) (base + i - lo) val
+                            | otherwise -> indexNumber pol iline v m (toInteger i) >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
                   _ -> \e m -> stepThen line m $ withValue xM e m $ \val ->
                     withValue ixM e m $ \iv -> do
                       k <- index m iv
@@ -895,27 +1293,31 @@ compileFor ctx line cv start end by body = \e m ->
             else pure Next
     -- the same loop for the common case, an integer control variable with
     -- bounds evaluated once and @stop-at-end@, on machine integers
-    intLoop rd wr lo hi enI stI e m = go
+    intLoop rd wr lo hi enI stI e m =
+      rd e m >>= \c -> case valueToInt c of
+        Just ci -> go ci
+        Nothing -> Failing <$ malformed line m
       where
-        go = do
+        -- @ci@ is the control variable's value, known without reading it
+        -- again: the start value, or the value just written
+        go !ci = do
           ok <- tick (pStepBudget pol) line m
           if not ok
             then pure Failing
             else
-              rd e m >>= \c -> case valueToInt c of
-                Just ci
-                  | if stI < 0 then ci >= enI else ci <= enI ->
-                      bodyR e m >>= \case
-                        Next ->
-                          rd e m >>= \c' -> case valueToInt c' of
-                            Just ci'
-                              | ci' + stI < lo || ci' + stI > hi -> pure Next
-                              | otherwise -> (wr $! intToValue t (ci' + stI)) e m >> go
-                            Nothing -> Failing <$ malformed line m
-                        Exiting -> pure Next
-                        other -> pure other
-                  | otherwise -> pure Next
-                Nothing -> Failing <$ malformed line m
+              if if stI < 0 then ci >= enI else ci <= enI
+                then
+                  bodyR e m >>= \case
+                    Next ->
+                      -- the body may have assigned the control variable
+                      rd e m >>= \c' -> case valueToInt c' of
+                        Just ci'
+                          | ci' + stI < lo || ci' + stI > hi -> pure Next
+                          | otherwise -> let n = ci' + stI in (wr $! intToValue t n) e m >> go n
+                        Nothing -> Failing <$ malformed line m
+                    Exiting -> pure Next
+                    other -> pure other
+                else pure Next
     {-# INLINE intLoop #-}
     continues s c en
       | numCompare s zero == LT = numCompare c en /= LT

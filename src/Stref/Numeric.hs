@@ -15,10 +15,10 @@ module Stref.Numeric
   , integerLiteralFits
   ) where
 
-import Data.Bits (shiftL, shiftR, (.&.))
+import Data.Bits (shiftL, shiftR)
 import Data.Ratio (denominator, numerator)
 import Stref.Types
-import Stref.Values (realBits, realFromBits)
+import Stref.Values (realFromBits)
 
 -- | The binary32 value of a decimal literal: the exact rational rounded once
 -- to the nearest binary32, ties to the even significand (IEEE 754
@@ -75,16 +75,22 @@ floorLog2 = go (-1)
 
 -- | The largest finite binary32, 3.4028235e38 = (2^24 - 1) * 2^104 (A6).
 realMax :: Float
-realMax = realFromBits 0x7F7FFFFF
+realMax = 3.4028235e38 -- realFromBits 0x7F7FFFFF (NumericSpec checks the bits)
 
 realInfinity :: Float
 realInfinity = realFromBits 0x7F800000
 
+-- | By comparison, not by the bit pattern: the same answer (only the
+-- infinities lie beyond the largest finite binary32, and NaN compares false),
+-- without moving the value out of a floating-point register.
 isRealInfinite :: Float -> Bool
-isRealInfinite x = realBits x .&. 0x7FFFFFFF == 0x7F800000
+isRealInfinite x = x > realMax || x < negate realMax
+{-# INLINE isRealInfinite #-}
 
+-- | NaN is the only value unequal to itself.
 isRealNaN :: Float -> Bool
-isRealNaN x = realBits x .&. 0x7FFFFFFF > 0x7F800000
+isRealNaN x = x /= x
+{-# INLINE isRealNaN #-}
 
 -- | The exact value of a finite binary32 ('Nothing' for infinities and NaN).
 realToRational :: Float -> Maybe Rational

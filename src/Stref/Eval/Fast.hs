@@ -20,6 +20,11 @@ module Stref.Eval.Fast
   , Binary (..)
   , Unary (..)
   , arithFast
+  , IntArith
+  , intArith
+  , intOp
+  , arithCanFail
+  , range
   , compareFast
   , convertFast
   , valueToInt
@@ -68,21 +73,29 @@ data Unary a = Unary !(Value -> a)
 -- reference, which rejects them.
 arithFast :: Policies -> ArithOp -> BasicType -> Binary Result
 arithFast p op t = case t of
-  INT -> intArith p op INT (\r -> VInt (fromIntegral r)) $ \f -> Binary $ \a b -> case (a, b) of
-    (VInt x, VInt y) -> f (fromIntegral x) (fromIntegral y)
-    _ -> reference a b
-  DINT -> intArith p op DINT (\r -> VDInt (fromIntegral r)) $ \f -> Binary $ \a b -> case (a, b) of
-    (VDInt x, VDInt y) -> f (fromIntegral x) (fromIntegral y)
-    _ -> reference a b
-  USINT -> intArith p op USINT (\r -> VUSInt (fromIntegral r)) $ \f -> Binary $ \a b -> case (a, b) of
-    (VUSInt x, VUSInt y) -> f (fromIntegral x) (fromIntegral y)
-    _ -> reference a b
+  INT -> intArithValues INT (\case VInt x -> Just (fromIntegral x); _ -> Nothing)
+  DINT -> intArithValues DINT (\case VDInt x -> Just (fromIntegral x); _ -> Nothing)
+  USINT -> intArithValues USINT (\case VUSInt x -> Just (fromIntegral x); _ -> Nothing)
   REAL -> realArith op $ \f -> Binary $ \a b -> case (a, b) of
     (VReal x, VReal y) -> f x y
     _ -> reference a b
   _ -> Binary reference
   where
     reference a b = fromOutcome (O.arith p op a b)
+    intArithValues ty number =
+      let mk = intToValue ty
+          !ia = intArith p ty
+          on o = Binary $ \a b -> case (number a, number b) of
+            (Just x, Just y) -> intOp (\n f -> Flagged (mk n) f) (Plain . mk) Raised ia o x y
+            _ -> reference a b
+          {-# INLINE on #-}
+       in case op of
+            OpAdd -> on OpAdd
+            OpSub -> on OpSub
+            OpMul -> on OpMul
+            OpDiv -> on OpDiv
+            OpMod -> on OpMod
+    {-# INLINE intArithValues #-}
     -- the operator chosen here, so that each closure holds the code of one
     -- operator only
     realArith o lift = case o of
@@ -94,65 +107,96 @@ arithFast p op t = case t of
     onReal = O.realArithWith (\r o -> Flagged (VReal r) o) (Plain . VReal) Raised p
     {-# INLINE realArith #-}
 
--- | 'Stref.Operators' intArith on 'Int' (the same case analysis), with the
--- operator, type and policies fixed once; @lift@ receives the operation of
--- the chosen operator (inlined, so that it is one closure without calls).
-intArith :: Policies -> ArithOp -> BasicType -> (Int -> Value) -> ((Int -> Int -> Result) -> r) -> r
-intArith p op t mk lift = case op of
-  OpAdd -> lift $ \x y -> setsFlag (x + y)
-  OpSub -> lift $ \x y -> setsFlag (x - y)
-  OpMul -> lift $ \x y -> setsFlag (x * y)
-  OpDiv -> lift $ \x y ->
-    if y == 0
-      then case divZero of
-        DivZeroError -> Raised errDivisionByZero -- MT-OP-9, MT-ERR-2020
-        DivZeroZero -> Plain (mk 0)
-        DivZeroTrap -> Raised trapDivisionByZero
-      else keepsFlag (O.divide modSign x y) -- MT-OP-10, A7
-  OpMod -> lift $ \x y ->
-    if y == 0
-      then case modZero of
-        ModZeroZero -> Plain (mk 0) -- MT-OP-8
-        ModZeroError -> Raised errModZero
-      else keepsFlag (O.modulo modSign x y)
+-- | What the policies and the operand type decide for integer arithmetic,
+-- worked out once (so that an operation does no case analysis on the
+-- policies or the type, only on these fields).
+data IntArith = IntArith
+  { iaLo, iaHi :: {-# UNPACK #-} !Int -- ^ the type's range
+  , iaWideLo, iaWideHi :: {-# UNPACK #-} !Int -- ^ the range of the intermediate result
+  , iaOverflow :: !Overflow
+  , iaPromoted :: !Bool -- ^ @arith-width = promote-32@: the result is narrowed to the type
+  , iaNarrowSaturates :: !Bool
+  , iaDivZero :: !DivZero
+  , iaModZero :: !ModZero
+  , iaModSign :: !ModSign
+  }
+
+intArith :: Policies -> BasicType -> IntArith
+intArith p t =
+  IntArith
+    { iaLo = lo
+    , iaHi = hi
+    , iaWideLo = wl
+    , iaWideHi = wh
+    , iaOverflow = pOverflow p
+    , iaPromoted = pArithWidth p == Promote32
+    , iaNarrowSaturates = pNarrowInt p == NarrowSaturate
+    , iaDivZero = pDivZero p
+    , iaModZero = pModZero p
+    , iaModSign = pModSign p
+    }
   where
-    !divZero = pDivZero p
-    !modZero = pModZero p
-    !modSign = pModSign p
-    !overflow = pOverflow p
-    !(lo, hi) = range t
-    !(wl, wh) = case pArithWidth p of
+    (lo, hi) = range t
+    (wl, wh) = case pArithWidth p of
       OperandType -> (lo, hi)
       Promote32 -> (dintLo, dintHi)
+
+-- | "Stref.Operators" intArith on 'Int' (the same case analysis). The
+-- outcome goes to one of three continuations: a number that sets
+-- INTERNAL_OVERFLOW to the given state, a number that leaves it, a runtime
+-- error (so that the interpreter's typed closures build no result at all).
+-- Inlined where the operator is known, so that a closure holds the code of
+-- one operator only.
+intOp ::
+  (Int -> Bool -> r) ->
+  (Int -> r) ->
+  (ErrorCode -> r) ->
+  IntArith ->
+  ArithOp ->
+  Int ->
+  Int ->
+  r
+intOp flagged plain raised ia op x y = case op of
+  OpAdd -> setsFlag (x + y)
+  OpSub -> setsFlag (x - y)
+  OpMul -> setsFlag (x * y)
+  OpDiv
+    | y == 0 -> case iaDivZero ia of
+        DivZeroError -> raised errDivisionByZero -- MT-OP-9, MT-ERR-2020
+        DivZeroZero -> plain 0
+        DivZeroTrap -> raised trapDivisionByZero
+    | otherwise -> keepsFlag (O.divide (iaModSign ia) x y) -- MT-OP-10, A7
+  OpMod
+    | y == 0 -> case iaModZero ia of
+        ModZeroZero -> plain 0 -- MT-OP-8
+        ModZeroError -> raised errModZero
+    | otherwise -> keepsFlag (O.modulo (iaModSign ia) x y)
+  where
+    wl = iaWideLo ia
+    wh = iaWideHi ia
     -- MT-OP-7: + - * set the flag to whether the result overflowed
     setsFlag !exact
-      | wl <= exact && exact <= wh = Flagged (mk $! narrow exact) False
-      | otherwise = case overflow of
-          Saturate -> Flagged (mk $! narrow (max wl (min wh exact))) True -- MT-OP-6
-          Wrap -> Flagged (mk $! narrow (wrapIn wl wh exact)) True
-          Trap -> Raised trapOverflow
+      | wl <= exact && exact <= wh = flagged (narrow exact) False
+      | otherwise = case iaOverflow ia of
+          Saturate -> flagged (narrow (max wl (min wh exact))) True -- MT-OP-6
+          Wrap -> flagged (narrow (wrapIn wl wh exact)) True
+          Trap -> raised trapOverflow
     {-# INLINE setsFlag #-}
     keepsFlag !exact
-      | wl <= exact && exact <= wh = Plain (mk $! narrow exact)
-      | otherwise = case overflow of
-          Saturate -> Plain (mk $! narrow (max wl (min wh exact)))
-          Wrap -> Plain (mk $! narrow (wrapIn wl wh exact))
-          Trap -> Raised trapOverflow
+      | wl <= exact && exact <= wh = plain (narrow exact)
+      | otherwise = case iaOverflow ia of
+          Saturate -> plain (narrow (max wl (min wh exact)))
+          Wrap -> plain (narrow (wrapIn wl wh exact))
+          Trap -> raised trapOverflow
     {-# INLINE keepsFlag #-}
     -- under promote-32 the 32-bit result is narrowed to the type like an
     -- integer narrowing conversion (the identity under operand-type)
-    !promoted = case pArithWidth p of
-      OperandType -> False
-      Promote32 -> True
-    !narrowSaturates = case pNarrowInt p of
-      NarrowWrap -> False
-      NarrowSaturate -> True
     narrow r
-      | not promoted = r
-      | narrowSaturates = max lo (min hi r)
-      | otherwise = wrapIn lo hi r
-
-{-# INLINE intArith #-}
+      | not (iaPromoted ia) = r
+      | iaNarrowSaturates ia = max (iaLo ia) (min (iaHi ia) r)
+      | otherwise = wrapIn (iaLo ia) (iaHi ia) r
+    {-# INLINE narrow #-}
+{-# INLINE intOp #-}
 
 wrapIn :: Int -> Int -> Int -> Int
 wrapIn lo hi x = lo + (x - lo) `mod` (hi - lo + 1)
@@ -227,3 +271,19 @@ convertFast p from to = Unary $ case (from, to) of
       NarrowWrap -> \case VDInt x -> mk (fromIntegral x :: Int); v -> ref v
       NarrowSaturate -> \case VDInt x -> let (l, h) = range t in mk (max l (min h (fromIntegral (x :: Int32)))); v -> ref v
 
+
+-- | Whether an arithmetic operation can end in a runtime error under the
+-- policies: division and MOD (by zero, MT-OP-9, MT-OP-8), + - * on integers
+-- only under the trapping overflow alternative; REAL + - * never (A6).
+-- Operands of other types go to the reference, which rejects them.
+arithCanFail :: Policies -> ArithOp -> BasicType -> Bool
+arithCanFail p op t = case op of
+  OpDiv -> True
+  OpMod -> True
+  _ -> case t of
+    REAL -> False
+    _
+      | t `elem` [INT, DINT, USINT] -> case pOverflow p of
+          Trap -> True
+          _ -> False
+      | otherwise -> True
