@@ -6,6 +6,7 @@ module Cmd.Run (command, PlcFile (..), readPlcFile) where
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
+import qualified Data.ByteString as BS
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (isDigit)
@@ -174,12 +175,17 @@ data RunSummary = RunSummary
 -- message goes through the handle's text encoding, as the rest of the report.
 printCallText :: Int -> CallResult -> CallOutput
 printCallText k r
-  | not (crExecuted r) = Bytes (prefix <> "not executed (INPUT1 is FALSE)\n")
-  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> "\n"))
-  | otherwise = Bytes (prefix <> "ok" <> steps <> "\n")
+  | not (crExecuted r) = Bytes (prefix <> ascii "not executed (INPUT1 is FALSE)\n")
+  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> ascii "\n"))
+  | otherwise = Bytes (prefix <> ascii "ok" <> steps <> ascii "\n")
   where
-    prefix = "call " <> BB.intDec k <> ": "
-    steps = " (" <> BB.intDec (crSteps r) <> " steps)"
+    prefix = ascii "call " <> BB.intDec k <> ascii ": "
+    steps = ascii " (" <> BB.intDec (crSteps r) <> ascii " steps)"
+
+-- | Bytes of a literal, packed once (a 'BB.Builder' literal would encode
+-- its characters again on every line).
+ascii :: BS.ByteString -> BB.Builder
+ascii = BB.byteString
 
 putBytes :: BB.Builder -> IO ()
 putBytes = BB.hPutBuilder stdout

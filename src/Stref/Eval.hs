@@ -28,6 +28,7 @@ module Stref.Eval
   , Exec (..)
   , failWith
   , getMemory
+  , writeMachineCell
   , maxCallDepth
   , errMalformed
     -- * Variables
@@ -55,8 +56,10 @@ import Data.Int (Int16, Int32)
 import Data.IntMap.Strict (IntMap)
 import Data.List (partition)
 import Data.STRef
+import Data.Word (Word32)
 import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
+import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.Checked
 import Stref.Conversions (convert)
@@ -73,7 +76,9 @@ import Stref.Values
 data Machine s = Machine
   { mData :: {-# UNPACK #-} !(MV.MVector s Value) -- ^ the module data area (MT-MAP-1)
   , mFrame :: {-# UNPACK #-} !(STRef s (CallFrame s)) -- ^ the active function call's frame (MT-SCOPE-7)
-  , mMemory :: {-# UNPACK #-} !(STRef s Memory) -- ^ the PLC operands
+  , mMemory :: {-# UNPACK #-} !(STRef s Memory) -- ^ the PLC operands, but for those of 'mCells'
+  , mCellSlots :: !CellSlots -- ^ the module's mapped cells ...
+  , mCells :: {-# UNPACK #-} !(MU.MVector s Int) -- ^ ... and their patterns during the call ('heldPattern')
   , mCounters :: {-# UNPACK #-} !(MU.MVector s Int)
   -- ^ steps used of the budget (MT-EXEC-7), INTERNAL_OVERFLOW (MT-OP-7),
   -- OUTPUT1..3 (MT-SIG-4), whether a runtime error occurred, at the
@@ -94,8 +99,8 @@ ixOutput n = 1 + n
 -- every slot at its type default (so reading a slot before any write gives
 -- the default, as MT-VAR-3 asks); OUTPUT1 TRUE, the others and the flag
 -- FALSE, no steps used.
-newMachine :: CompiledModule -> IntMap Value -> Memory -> (Bool, Bool, Bool) -> ST s (Machine s)
-newMachine cm retained mem (o1, o2, o3) = do
+newMachine :: CompiledModule -> CellSlots -> IntMap Value -> Memory -> (Bool, Bool, Bool) -> ST s (Machine s)
+newMachine cm table retained mem (o1, o2, o3) = do
   d <-
     V.thaw $
       if IM.null retained
@@ -103,13 +108,15 @@ newMachine cm retained mem (o1, o2, o3) = do
         else V.imap (\k def -> IM.findWithDefault def k retained) (cmDataDefaults cm)
   f <- newFrame 0
   fr <- newSTRef f
-  mr <- newSTRef mem
+  let (rest, held) = takeCells table mem
+  mr <- newSTRef rest
+  cells <- U.thaw held
   cs <- MU.replicate 6 0
   MU.write cs (ixOutput 1) (fromEnum o1)
   MU.write cs (ixOutput 2) (fromEnum o2)
   MU.write cs (ixOutput 3) (fromEnum o3)
   er <- newSTRef (runtimeError errMalformed 0)
-  pure (Machine d fr mr cs er)
+  pure (Machine d fr mr table cells cs er)
 
 -- | The machine's state after a call, immutable.
 data Snapshot = Snapshot
@@ -123,7 +130,7 @@ data Snapshot = Snapshot
 snapshot :: Machine s -> ST s Snapshot
 snapshot m = do
   d <- V.freeze (mData m)
-  mem <- readSTRef (mMemory m)
+  mem <- currentMemory m
   let counter = MU.unsafeRead (mCounters m)
   steps <- counter ixSteps
   o <- counter ixOverflow
@@ -193,7 +200,30 @@ failWith :: ErrorCode -> Line -> Exec s a
 failWith c l = Exec $ \_ _ -> pure (Failed (runtimeError c l))
 
 getMemory :: Exec s Memory
-getMemory = Exec $ \_ m -> Done <$> readSTRef (mMemory m)
+getMemory = Exec $ \_ m -> Done <$> currentMemory m
+
+-- | The PLC operands now: the memory with the mapped cells' patterns.
+currentMemory :: Machine s -> ST s Memory
+currentMemory m = do
+  rest <- readSTRef (mMemory m)
+  held <- U.freeze (mCells m)
+  pure (putCells (mCellSlots m) held rest)
+
+-- | Write a cell's pattern (masked to its width) into the machine, given
+-- its slot in the machine's table ('lookupSlot', -1 for a cell the table
+-- does not hold): the diagnostic band at the end of a call.
+writeMachineCell :: Machine s -> Cell -> Int -> Word32 -> ST s ()
+writeMachineCell m c j w
+  | j >= 0 = writeCellValue (mCells m) j (w .&. cellMask c)
+  | otherwise = modifySTRef' (mMemory m) (writeCell c w)
+
+readCellValue :: MU.MVector s Int -> Int -> ST s Word32
+readCellValue vals j = fromIntegral <$> MU.unsafeRead vals j
+{-# INLINE readCellValue #-}
+
+writeCellValue :: MU.MVector s Int -> Int -> Word32 -> ST s ()
+writeCellValue vals j w = MU.unsafeWrite vals j (heldPattern w)
+{-# INLINE writeCellValue #-}
 
 -- | MT-POU-9, MT-LIM-1: at most 16 nested function calls.
 maxCallDepth :: Int
@@ -305,16 +335,46 @@ startFrame (FrameStart a) = ST $ \s -> case thawSmallArray# a 0# (sizeofSmallArr
 type Run s a = Env -> Machine s -> ST s a
 
 readRun :: Var -> Int -> Run s Value
-readRun v off = case varHome v of
+readRun v off = case buildRead v off of Built r -> r
+
+-- | A closure, built. 'readRun' and 'writeRun' take it out of the box of a
+-- builder that GHC may not inline: so they have two arguments, and what is
+-- computed before the closure's lambda (an operand's cell key) is computed
+-- once, not on every run (GHC would otherwise add the closure's arguments
+-- to theirs, the work before the lambda looking cheap to it).
+data Built a = Built !a
+
+buildRead :: Var -> Int -> Built (Run s Value)
+{-# NOINLINE buildRead #-}
+buildRead v off = Built $ case varHome v of
   Data i -> let k = i + off in \_ m -> readSlot (mData m) def k
   Frame i -> let k = i + off in \_ m -> readSTRef (mFrame m) >>= \f -> readFrame f def k
-  Mapped o -> let o' = elementOperand o off in \_ m -> (\mem -> readOperand mem o' t) <$> readSTRef (mMemory m)
+  Mapped o -> mappedRead (elementOperand o off) t
   SignalInput n -> \e _ -> pure (VBool (signal n (envInputs e)))
   SignalOutput n -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) (ixOutput (clampSignal n))
   OverflowFlag -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) ixOverflow
   where
     t = varBasicType v
     def = defaultValue t
+
+-- | Read an operand: its cell in the machine's table, else in the memory.
+-- The key and the conversion are chosen before the closure is built.
+mappedRead :: Operand -> BasicType -> Run s Value
+mappedRead o t = case cellKey (operandCell o) of
+  !key -> case operandReader o t of
+    !fromPattern -> \_ m -> case lookupSlot (mCellSlots m) key of
+      j
+        | j >= 0 -> readCellValue (mCells m) j >>= \w -> pure $! fromPattern w
+        | otherwise -> readSTRef (mMemory m) >>= \mem -> pure $! readOperand mem o t
+
+-- | Write an operand (a bit: only its bit), as 'mappedRead'.
+mappedWrite :: Operand -> Value -> Run s ()
+mappedWrite o = case cellKey (operandCell o) of
+  !key -> case operandWriter o of
+    !toPattern -> \x _ m -> case lookupSlot (mCellSlots m) key of
+      j
+        | j >= 0 -> readCellValue (mCells m) j >>= \w -> writeCellValue (mCells m) j $! toPattern x w
+        | otherwise -> modifySTRef' (mMemory m) (writeOperand o x)
 
 -- | OUTPUT1..3 only (the checker knows no others).
 clampSignal :: Int -> Int
@@ -336,10 +396,14 @@ writeElement :: Var -> Int -> Value -> Exec s ()
 writeElement v off = let w = writeRun v off in \x -> Exec $ \e m -> Done <$> w x e m
 
 writeRun :: Var -> Int -> Value -> Run s ()
-writeRun v off = case varHome v of
+writeRun v off = case buildWrite v off of Built w -> w
+
+buildWrite :: Var -> Int -> Built (Value -> Run s ())
+{-# NOINLINE buildWrite #-}
+buildWrite v off = Built $ case varHome v of
   Data i -> let k = i + off in \x _ m -> writeSlot (mData m) k x
   Frame i -> let k = i + off in \x _ m -> readSTRef (mFrame m) >>= \f -> writeFrame f k x
-  Mapped o -> let o' = elementOperand o off in \x _ m -> modifySTRef' (mMemory m) (writeOperand o' x)
+  Mapped o -> mappedWrite (elementOperand o off)
   SignalInput _ -> \_ _ _ -> pure ()
   SignalOutput n
     | n >= 1 && n <= 3 -> \x _ m -> MU.unsafeWrite (mCounters m) (ixOutput n) (fromEnum (boolOf x))

@@ -122,30 +122,60 @@ runCompiledLazyVars :: Policies -> PlcConfig -> CModule -> CompiledModule -> Cal
 runCompiledLazyVars = runCompiledWith False
 
 runCompiledWith :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCompiledWith eagerVars pol cfg cm compiled = \ci st ->
-  let (input1, _, _) = ciInputs ci
-      checks = do
-        mappedChecked
-        -- no CHF arguments (every call of a P module): the same answer each time
-        case (ciChfIn ci, ciChfOut ci) of
-          ([], []) -> noParameters
-          (ins, outs) -> checkChfParameters lineBefore cfg prog ins outs
-   in runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
+runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm of
+  CallSetup mappedChecked noParameters table band bandKeyed initialiseData -> \ci st ->
+    let (input1, _, _) = ciInputs ci
+        checks = do
+          mappedChecked
+          -- no CHF arguments (every call of a P module): the same answer each time
+          case (ciChfIn ci, ciChfOut ci) of
+            ([], []) -> noParameters
+            (ins, outs) -> checkChfParameters (pErrorLineBeforeStart pol) cfg (cmProgram cm) ins outs
+     in runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
+
+-- | What does not depend on the call, computed once for all the calls of a
+-- module: the checks of the mapped operands and of an empty CHF parameter
+-- list, the table of the cells held in machine words during a call (the
+-- mapped ones and the diagnostic band), the band's cells and the translated
+-- initialisation of the data area. (The builder is not inlined: GHC would
+-- otherwise move this work into the function of the call.)
+data CallSetup = CallSetup
+  !(Either RuntimeError ())
+  !(Either RuntimeError [ParamSource])
+  !CellSlots
+  ![Cell]
+  ![(Cell, Int, Word32)] -- ^ the band's cells, their slots in the table, their patterns after a call without error
+  (forall s. Exec s ())
+
+callSetup :: Policies -> PlcConfig -> CModule -> CallSetup
+{-# NOINLINE callSetup #-}
+callSetup pol cfg cm =
+  CallSetup
+    (checkMappedOperands lineBefore cfg (cmMapped cm))
+    (checkChfParameters lineBefore cfg prog [] [])
+    table
+    band
+    [(c, lookupSlot table (cellKey c), bandPattern x) | (c, x) <- zip band noErrorBand]
+    initialiseData
   where
-    -- what does not depend on the call: checked once
-    mappedChecked = checkMappedOperands lineBefore cfg (cmMapped cm)
-    noParameters = checkChfParameters lineBefore cfg prog [] []
     prog = cmProgram cm
     lineBefore = pErrorLineBeforeStart pol -- A2
     band = bandCells cfg
-    -- the initialisation of the data area, translated once
+    table = cellSlots (mappedCells (cmMapped cm) ++ band)
+    -- the initialisation of the data area, translated once; the machine's
+    -- data area starts at the type defaults whenever it is initialised (no
+    -- retained slots then), so a variable there without an initialiser
+    -- needs no write
     initialiseData :: Exec s ()
     initialiseData = do
-      mapM_ (\v -> initVar (VarInit v Nothing)) (cpOutputs prog) -- A21
-      mapM_ initVar (cmInits cm)
+      mapM_ initVar (filter needsWrite (map (`VarInit` Nothing) (cpOutputs prog))) -- A21
+      mapM_ initVar (filter needsWrite (cmInits cm))
+    needsWrite vi = case (varHome (viVar vi), viInit vi) of
+      (Data _, Nothing) -> False
+      _ -> True
 
-runChecked :: Bool -> Policies -> CModule -> CompiledModule -> (forall s. Exec s ()) -> [Cell] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
-runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
+runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
+runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
       -- stay off and nothing else changes (not even the diagnostics)
@@ -160,16 +190,28 @@ runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
                 , snOverflow = False
                 , snSteps = 0
                 }
-         in finish (psRetained st) (Left err) sn
+         in finish True (psRetained st) (Left err) sn
       Right sources -> runST (runBody sources)
   where
     runBody sources = do
-      m <- newMachine compiled retainedData (psMemory st) (True, False, False) -- MT-SIG-4, A5
+      m <- newMachine compiled table retainedData (psMemory st) (True, False, False) -- MT-SIG-4, A5
       r <- unExec (prepare sources >> cmBody compiled) env m
-      sn <- snapshot m
-      pure $ case r of
-        Done _ -> finish (keep sn) (Right ()) (copyBack sources sn)
-        Failed err -> finish (keep sn) (Left err) sn
+      case copyPairs sources of
+        [] -> do
+          -- nothing to copy back (P modules): the band is written in the
+          -- machine, where its cells are held
+          case r of
+            Done _ -> mapM_ (\(c, k, w) -> writeMachineCell m c k w) bandKeyed
+            Failed err -> mapM_ (\((c, k, _), x) -> writeMachineCell m c k (bandPattern x)) (zip bandKeyed (errorBand err))
+          sn <- snapshot m
+          pure $ case r of
+            Done _ -> finish False (keep sn) (Right ()) sn
+            Failed err -> finish False (keep sn) (Left err) sn
+        _ -> do
+          sn <- snapshot m
+          pure $ case r of
+            Done _ -> finish True (keep sn) (Right ()) (copyBack sources sn)
+            Failed err -> finish True (keep sn) (Left err) sn
     env = Env (ciInputs ci) 0
     prog = cmProgram cm
     firstCall = case psRetained st of
@@ -182,32 +224,33 @@ runChecked eagerVars pol cm compiled initialiseData band input1 checks ci st
     prepare sources = do
       if initialise then initialiseData else pure ()
       -- VAR_INPUT and VAR_IN_OUT: copied in on every call (MT-PARAM-3, MT-PARAM-5)
-      memory <- getMemory
-      mapM_ (copyIn memory) (zip (cpInputs prog ++ cpInOuts prog) sources)
+      case zip (cpInputs prog ++ cpInOuts prog) sources of
+        [] -> pure () -- no parameters (P modules)
+        params -> getMemory >>= \memory -> mapM_ (copyIn memory) params
     copyIn memory (v, src) =
       mapM_ (\k -> writeElement v k (sourceRead memory src (varBasicType v) k)) [0 .. varElements v - 1]
+    -- MT-PARAM-5: VAR_IN_OUT back to their operands, then VAR_OUTPUT to
+    -- the CHF outputs (so an output wins when both name one operand)
+    copyPairs sources =
+      zip (cpInOuts prog) (drop (length (cpInputs prog)) sources)
+        ++ zip (cpOutputs prog) (outputSources (ciChfOut ci))
     copyBack sources m =
-      -- MT-PARAM-5: VAR_IN_OUT back to their operands, then VAR_OUTPUT to
-      -- the CHF outputs (so an output wins when both name one operand)
-      let inOutSources = drop (length (cpInputs prog)) sources
-          pairs =
-            zip (cpInOuts prog) inOutSources
-              ++ zip (cpOutputs prog) (outputSources (ciChfOut ci))
-          writeBack mem (v, src) =
+      let writeBack mem (v, src) =
             foldl'
               (\mm k -> sourceWrite src k (readNow m v k) mm)
               mem
               [0 .. varElements v - 1]
-       in m {snMemory = foldl' writeBack (snMemory m) pairs}
+       in m {snMemory = foldl' writeBack (snMemory m) (copyPairs sources)}
     readNow m v k = snapshotElement env m v k
     keep sn = case pLifetime pol of
       Retained -> Just (IM.fromDistinctAscList (zip [0 ..] (V.toList (snData sn))))
       PerCall -> Nothing
-    finish retained result sn =
+    -- the band is written here unless it was in the machine
+    finish withBand retained result sn =
       let (values, err, outs) = case result of
             Right () -> (noErrorBand, Nothing, snOutputs sn)
             Left e -> (errorBand e, Just e, clearOutput1 (snOutputs sn))
-          mem' = writeBand band values (snMemory sn)
+          mem' = if withBand then writeBand band values (snMemory sn) else snMemory sn
           sn' = sn {snMemory = mem', snOutputs = outs}
           st' =
             PlcState
@@ -253,10 +296,14 @@ writeBand cells band mem = foldl' write mem (zip cells band)
     -- it is, the memory being the same (most calls write the band of the
     -- call before)
     write m (cell, x) =
-      let bits = fromIntegral (fromIntegral x :: Word16) :: Word32
+      let bits = bandPattern x
        in case lookupCell m cell of
             Just old | old == bits -> m
             _ -> writeCell cell bits m
+
+-- | A band value's pattern: the INT's 16 bits.
+bandPattern :: Int -> Word32
+bandPattern x = fromIntegral (fromIntegral x :: Word16)
 
 --------------------------------------------------------------------------------
 -- Checks before the first statement
@@ -267,17 +314,21 @@ writeBand cells band mem = foldl' write mem (zip cells band)
 -- declared: kind code, table), 2002 (position not declared: kind code,
 -- table, position).
 checkMappedOperands :: Int -> PlcConfig -> [Var] -> Either RuntimeError ()
-checkMappedOperands line cfg vars = mapM_ checkCell cells
+checkMappedOperands line cfg vars = mapM_ checkCell (mappedCells vars)
   where
-    cells =
-      [ operandCell (elementOperand op k)
-      | v <- vars
-      , Mapped op <- [varHome v]
-      , k <- [0 .. varElements v - 1]
-      ]
     checkCell c
       | cellDeclared cfg c = Right ()
       | otherwise = Left (undeclaredCell line cfg c)
+
+-- | The cells of the mapped variables, every element of an array, in
+-- declaration order.
+mappedCells :: [Var] -> [Cell]
+mappedCells vars =
+  [ operandCell (elementOperand op k)
+  | v <- vars
+  , Mapped op <- [varHome v]
+  , k <- [0 .. varElements v - 1]
+  ]
 
 undeclaredCell :: Int -> PlcConfig -> Cell -> RuntimeError
 undeclaredCell line cfg c = case c of

@@ -1,5 +1,6 @@
 {-# OPTIONS_GHC -O2 #-}
 -- (the interpreter's hot path: bench/RESULTS.md measures -O2 against -O1)
+{-# LANGUAGE MagicHash #-}
 -- | PLC operands (catalogue §7.3, Tables 2-3 and 4-8): which operands the
 -- language knows, which types may be mapped onto them, the controller's
 -- configuration (which operands are declared) and its memory.
@@ -34,16 +35,32 @@ module Stref.Operands
   , writeCell
   , readOperand
   , writeOperand
+  , operandReader
+  , operandWriter
   , cellWidth
   , cellCells
+  -- * Cells held apart during a module call
+  , CellSlots
+  , cellSlots
+  , CellKey
+  , cellKey
+  , lookupSlot
+  , heldPattern
+  , cellMask
+  , takeCells
+  , putCells
   ) where
 
-import Data.Bits (clearBit, setBit, shiftL, testBit, (.&.))
+import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.), (.|.))
 import Data.Char (isDigit, isSpace, toUpper)
+import Data.List (nub)
+import GHC.Exts (isTrue#, reallyUnsafePtrEquality#)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
-import Data.Word (Word32)
+import qualified Data.Vector as V
+import qualified Data.Vector.Unboxed as U
+import Data.Word (Word32, Word64)
 import Stref.Syntax (OperandRef (..), OperandSub (..))
 import Stref.Types
 import Stref.Values
@@ -287,25 +304,160 @@ cellWidth = \case
 
 -- | Controller memory: each cell holds the bit pattern of its width; a cell
 -- never written reads as 0 (every declared operand starts at 0).
-newtype Memory = Memory (M.Map Cell Word32)
-  deriving (Eq, Show)
+--
+-- A module's mapped cells may be held apart, in an unboxed vector laid out
+-- by a 'CellSlots' table ('takeCells', 'putCells'): a module call then
+-- takes them from the memory and puts them back without a map operation.
+-- The two parts never hold the same cell; equality and 'show' are those of
+-- the whole memory as one map, whichever part holds a cell.
+data Memory = Memory !(M.Map Cell Word32) !HeldCells
+
+data HeldCells
+  = NoHeldCells
+  | HeldCells !CellSlots !(U.Vector Int) -- ^ each slot's pattern, bit 32 set when the cell holds one
+
+instance Eq Memory where
+  a == b = memoryMap a == memoryMap b
+
+instance Show Memory where
+  showsPrec d mem = showParen (d > 10) (showString "Memory " . showsPrec 11 (memoryMap mem))
+
+-- | The whole memory as one map.
+memoryMap :: Memory -> M.Map Cell Word32
+memoryMap (Memory m held) = case held of
+  NoHeldCells -> m
+  HeldCells ct vals ->
+    M.union m $
+      M.fromList
+        [ (V.unsafeIndex (ctCells ct) j, fromIntegral v)
+        | j <- U.toList (ctUsed ct)
+        , let v = U.unsafeIndex vals j
+        , testBit v 32
+        ]
 
 emptyMemory :: Memory
-emptyMemory = Memory M.empty
+emptyMemory = Memory M.empty NoHeldCells
 
 readCell :: Memory -> Cell -> Word32
-readCell (Memory m) c = M.findWithDefault 0 c m
+readCell mem c = maybe 0 id (lookupCell mem c)
 
 -- | The pattern of a cell that has been written, if it has.
 lookupCell :: Memory -> Cell -> Maybe Word32
-lookupCell (Memory m) c = M.lookup c m
-{-# INLINE lookupCell #-}
+lookupCell (Memory m held) c = case held of
+  HeldCells ct vals
+    | j >= 0 ->
+        let v = U.unsafeIndex vals j
+         in if testBit v 32 then Just (fromIntegral v) else Nothing
+    where
+      j = lookupSlot ct (cellKey c)
+  _ -> M.lookup c m
 
 writeCell :: Cell -> Word32 -> Memory -> Memory
-writeCell c w (Memory m) = Memory (M.insert c (w .&. mask) m)
+writeCell c w (Memory m held) = case held of
+  HeldCells ct vals
+    | j >= 0 -> Memory m (HeldCells ct (vals U.// [(j, heldPattern (w .&. cellMask c))]))
+    where
+      j = lookupSlot ct (cellKey c)
+  _ -> Memory (M.insert c (w .&. cellMask c) m) held
+
+-- | The bits of a cell's pattern: its width's low bits.
+cellMask :: Cell -> Word32
+cellMask c = if width >= 32 then maxBound else (1 `shiftL` width) - 1
   where
     width = cellWidth c
-    mask = if width >= 32 then maxBound else (1 `shiftL` width) - 1
+
+-- | A pattern as a held slot holds it: bit 32 says the cell holds one.
+heldPattern :: Word32 -> Int
+heldPattern w = (1 `shiftL` 32) .|. fromIntegral w
+{-# INLINE heldPattern #-}
+
+-- | The cells of a table taken apart from a memory: the memory without
+-- them, and their patterns slot by slot ('heldPattern', 0 for a cell never
+-- written). Cheap when the memory already holds them apart in that table
+-- (the memory a call with the same table left).
+takeCells :: CellSlots -> Memory -> (Memory, U.Vector Int)
+takeCells ct mem@(Memory m held) = case held of
+  HeldCells ct' vals | sameTable ct' ct -> (Memory m NoHeldCells, vals)
+  _ ->
+    let whole = memoryMap mem
+        cells = [(j, V.unsafeIndex (ctCells ct) j) | j <- U.toList (ctUsed ct)]
+        vals = U.replicate (ctMask ct + 1) 0 U.// [(j, heldPattern w) | (j, c) <- cells, Just w <- [M.lookup c whole]]
+     in (Memory (foldr (M.delete . snd) whole cells) NoHeldCells, vals)
+
+-- | Whether two tables place the same cells in the same slots: at once when
+-- they are one table (every call of a module uses one), else by their keys.
+sameTable :: CellSlots -> CellSlots -> Bool
+sameTable a b = isTrue# (reallyUnsafePtrEquality# a b) || ctKeys a == ctKeys b
+
+-- | The inverse of 'takeCells': the memory with the table's cells holding
+-- the given patterns (the memory must not hold them itself).
+putCells :: CellSlots -> U.Vector Int -> Memory -> Memory
+putCells ct vals (Memory m _) = Memory m (HeldCells ct vals)
+
+-- | Which slot of a small vector holds which cell: an open-addressing table
+-- built once per module, so that finding a cell at run time is a probe or
+-- two in unboxed memory (the cell's key and hash computed beforehand).
+data CellSlots = CellSlots
+  { ctMask :: !Int -- ^ the number of slots (a power of two) minus one
+  , ctKeys :: !(U.Vector Int) -- ^ each slot's cell key, 'noKey' when empty
+  , ctCells :: !(V.Vector Cell) -- ^ each slot's cell (any cell when empty)
+  , ctUsed :: !(U.Vector Int) -- ^ the slots in use
+  }
+
+-- | A cell as a number (different cells, different numbers), with its hash;
+-- 'noKey' for a cell whose address or position is too large to encode (it
+-- is never in a table).
+data CellKey = CellKey !Int !Int
+
+noKey :: Int
+noKey = -1
+
+cellKey :: Cell -> CellKey
+cellKey c = CellKey key (hash key)
+  where
+    key = case c of
+      CellSimple k a -> encode 0 (fromEnum k) a 0
+      CellTable k a p -> encode 1 (fromEnum k) a p
+    -- tag: bit 62, kind: bits 56..58, address: 28..55, position: 0..27
+    encode :: Int -> Int -> Int -> Int -> Int
+    encode tag kind a p
+      | a < 0 || a >= limit || p < 0 || p >= limit = noKey
+      | otherwise = (tag `shiftL` 62) .|. (kind `shiftL` 56) .|. (a `shiftL` 28) .|. p
+    limit = 1 `shiftL` 28
+    -- Fibonacci hashing; the table's mask takes the low bits
+    hash k = fromIntegral ((fromIntegral k * 0x9E3779B97F4A7C15 :: Word64) `shiftR` 32)
+
+-- | The table of the given cells (duplicates once), at most half full.
+cellSlots :: [Cell] -> CellSlots
+cellSlots cells0 = CellSlots mask keys cellsV used
+  where
+    cells = [c | c <- nub cells0, let CellKey k _ = cellKey c, k /= noKey]
+    size = until (>= 2 * length cells) (* 2) 1
+    mask = size - 1
+    placed = foldl place [] cells
+    -- (slot, cell), each cell at the first free slot from its hash
+    place acc c =
+      let CellKey _ h = cellKey c
+          taken j = any ((== j) . fst) acc
+          -- a free slot exists: the table is at most half full
+          free j = if taken j then free ((j + 1) .&. mask) else j
+       in (free (h .&. mask), c) : acc
+    keys = U.replicate size noKey U.// [(j, let CellKey k _ = cellKey c in k) | (j, c) <- placed]
+    cellsV = V.replicate size (CellSimple KM 0) V.// placed
+    used = U.fromList (reverse (map fst placed))
+
+-- | The slot of a cell, or -1 when the table does not hold it.
+lookupSlot :: CellSlots -> CellKey -> Int
+lookupSlot ct (CellKey key h)
+  | key == noKey = -1
+  | otherwise = go (h .&. mask)
+  where
+    mask = ctMask ct
+    keys = ctKeys ct
+    go j =
+      let k = U.unsafeIndex keys j
+       in if k == key then j else if k == noKey then -1 else go ((j + 1) .&. mask)
+{-# INLINE lookupSlot #-}
 
 -- | The value of an integer type held by a cell's pattern: its low bits
 -- ('integerToValue' of the pattern, without an 'Integer').
@@ -320,19 +472,38 @@ valueToWord = maybe 0 fromIntegral . valueToInt
 
 -- | Read a variable of the given type mapped onto the operand.
 readOperand :: Memory -> Operand -> BasicType -> Value
-readOperand mem op t = case op of
-  OpBit _ _ b -> VBool (testBit (readCell mem (operandCell op)) b)
-  _ ->
-    let w = readCell mem (operandCell op)
-     in if t == REAL then VReal (realFromBits w) else wordToValue t w
+readOperand mem op t = operandReader op t (readCell mem (operandCell op))
 
 -- | Write a value through an operand: a bit changes only its bit.
 writeOperand :: Operand -> Value -> Memory -> Memory
-writeOperand op v mem = case (op, v) of
-  (OpBit _ _ b, VBool x) ->
-    let c = operandCell op
-        w = readCell mem c
-     in writeCell c (if x then setBit w b else clearBit w b) mem
-  (_, VReal r) -> writeCell (operandCell op) (realBits r) mem
-  _ -> writeCell (operandCell op) (valueToWord v) mem
+writeOperand op v mem = case op of
+  OpBit {} -> writeCell c (operandWriter op v (readCell mem c)) mem
+  _ -> writeCell c (operandWriter op v 0) mem -- the old pattern is not used
+  where
+    c = operandCell op
 
+-- | 'readOperand' on the pattern of the operand's cell; applied to its first
+-- two arguments, the choice of conversion is made once.
+operandReader :: Operand -> BasicType -> Word32 -> Value
+operandReader op t = case op of
+  OpBit _ _ b -> \w -> VBool (testBit w b) -- MT-MAP-13: a bit of the cell
+  _
+    | t == REAL -> \w -> VReal (realFromBits w)
+    | otherwise -> wordToValue t
+{-# INLINE operandReader #-}
+
+-- | The pattern of the operand's cell after a write of the value, from the
+-- pattern before it (only a bit operand looks at that): 'writeOperand' on a
+-- pattern, masked to the cell's width.
+operandWriter :: Operand -> Value -> Word32 -> Word32
+operandWriter op = case op of
+  OpBit _ _ b -> \v w -> case v of
+    VBool x -> (if x then setBit w b else clearBit w b) .&. mask
+    _ -> whole v
+  _ -> \v _ -> whole v
+  where
+    !mask = cellMask (operandCell op)
+    whole = \case
+      VReal r -> realBits r .&. mask
+      v -> valueToWord v .&. mask
+{-# INLINE operandWriter #-}
