@@ -13,7 +13,6 @@
 -- closures; the machine keeps the state at the moment it occurred (operand
 -- writes made before an error persist, MT-EXEC-8).
 {-# LANGUAGE MagicHash #-}
-{-# LANGUAGE MultiWayIf #-}
 {-# LANGUAGE RankNTypes #-}
 {-# LANGUAGE UnboxedTuples #-}
 module Stref.Eval
@@ -918,13 +917,25 @@ meaning ctx = \case
                       | i >= lo && i <= hi = readSlot (mData m) def (base + i - lo)
                       | otherwise = indexNumber pol line v m (toInteger i) >>= \k -> if k < 0 then pure def else readSlot (mData m) def (base + k)
                     {-# INLINE element #-}
+                    -- an index that is a variable of the data area is read
+                    -- in the closure (V[I]), else its closure is called
+                    indexSlot = case ixM of
+                      Meaning _ _ (DataSlot j d') _ -> Just (j, d')
+                      _ -> Nothing
                     typed
-                      | intTyped (varBasicType v) = case intUnary ixM 0 (\i m -> numberOf <$> element i m) typedInt of
-                          StagedInt r -> IntTyped r
-                      | varBasicType v == REAL = case intUnary ixM 0 (\i m -> realOf <$> element i m) typedReal of
-                          StagedReal r -> RealTyped r
+                      | intTyped (varBasicType v) = case indexSlot of
+                          Just (j, d') -> IntTyped (intRun (\_ m -> readSlot (mData m) d' j >>= \iv -> numberOf <$> element (numberOf iv) m))
+                          Nothing -> case intUnary ixM 0 (\i m -> numberOf <$> element i m) typedInt of
+                            StagedInt r -> IntTyped r
+                      | varBasicType v == REAL = case indexSlot of
+                          Just (j, d') -> RealTyped (realRun (\_ m -> readSlot (mData m) d' j >>= \iv -> realOf <$> element (numberOf iv) m))
+                          Nothing -> case intUnary ixM 0 (\i m -> realOf <$> element i m) typedReal of
+                            StagedReal r -> RealTyped r
                       | otherwise = Untyped
-                 in case intUnary ixM def element Staged of
+                    generic = case indexSlot of
+                      Just (j, d') -> Staged (\_ m -> readSlot (mData m) d' j >>= \iv -> element (numberOf iv) m)
+                      Nothing -> intUnary ixM def element Staged
+                 in case generic of
                       Staged r -> Meaning True r Computed typed
           _ -> staged True $ withOperand ixM $ \ri -> Staged $ \e m -> withIndex ri e m $ \iv ->
             index m iv >>= \k ->
@@ -1194,14 +1205,20 @@ compileStmt ctx = \case
                     | intTyped (cexprType ix') ->
                         -- an element of the data area: the index as a number,
                         -- the bounds checked inline
-                        let !ri = intRunOf ixM
-                         in \e m -> stepThen line m $ withValue xM e m $ \val -> do
-                          i <- runInt ri e m
-                          bad <- if failsM ixM then hasFailed m else pure False
-                          if
-                            | bad -> pure Failing
-                            | i >= lo && i <= hi -> Next <$ writeSlot (mData m) (base + i - lo) val
-                            | otherwise -> indexNumber pol iline v m (toInteger i) >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
+                        let store i val m
+                              | i >= lo && i <= hi = Next <$ writeSlot (mData m) (base + i - lo) val
+                              | otherwise = indexNumber pol iline v m (toInteger i) >>= \k -> if k < 0 then pure Failing else Next <$ writeSlot (mData m) (base + k) val
+                            {-# INLINE store #-}
+                         in case ixM of
+                              -- an index that is a variable of the data area is read here
+                              Meaning _ _ (DataSlot j d') _ -> \e m -> stepThen line m $ withValue xM e m $ \val ->
+                                readSlot (mData m) d' j >>= \iv -> store (numberOf iv) val m
+                              _ ->
+                                let !ri = intRunOf ixM
+                                 in \e m -> stepThen line m $ withValue xM e m $ \val -> do
+                                      i <- runInt ri e m
+                                      bad <- if failsM ixM then hasFailed m else pure False
+                                      if bad then pure Failing else store i val m
                   _ -> \e m -> stepThen line m $ withValue xM e m $ \val ->
                     withValue ixM e m $ \iv -> do
                       k <- index m iv
