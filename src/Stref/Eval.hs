@@ -356,6 +356,34 @@ buildRead v off = Built $ case varHome v of
     t = varBasicType v
     def = defaultValue t
 
+-- | 'readRun' for a translated expression: a mapped variable's slot in the
+-- machine's table found now, not on every read.
+readRunIn :: Ctx -> Var -> Int -> Run s Value
+readRunIn ctx v off = case varHome v of
+  Mapped o -> case mappedReadAt (cxCells ctx) (elementOperand o off) (varBasicType v) of Built r -> r
+  _ -> readRun v off
+
+writeRunIn :: Ctx -> Var -> Int -> Value -> Run s ()
+writeRunIn ctx v off = case varHome v of
+  Mapped o -> case mappedWriteAt (cxCells ctx) (elementOperand o off) of Built w -> w
+  _ -> writeRun v off
+
+mappedReadAt :: CellSlots -> Operand -> BasicType -> Built (Run s Value)
+{-# NOINLINE mappedReadAt #-}
+mappedReadAt table o t = case lookupSlot table (cellKey (operandCell o)) of
+  j
+    | j >= 0 -> case operandReader o t of
+        !fromPattern -> Built $ \_ m -> readCellValue (mCells m) j >>= \w -> pure $! fromPattern w
+    | otherwise -> Built $ \_ m -> readSTRef (mMemory m) >>= \mem -> pure $! readOperand mem o t
+
+mappedWriteAt :: CellSlots -> Operand -> Built (Value -> Run s ())
+{-# NOINLINE mappedWriteAt #-}
+mappedWriteAt table o = case lookupSlot table (cellKey (operandCell o)) of
+  j
+    | j >= 0 -> case operandWriter o of
+        !toPattern -> Built $ \x _ m -> readCellValue (mCells m) j >>= \w -> writeCellValue (mCells m) j $! toPattern x w
+    | otherwise -> Built $ \x _ m -> modifySTRef' (mMemory m) (writeOperand o x)
+
 -- | Read an operand: its cell in the machine's table, else in the memory.
 -- The key and the conversion are chosen before the closure is built.
 mappedRead :: Operand -> BasicType -> Run s Value
@@ -457,6 +485,9 @@ data CompiledModule = CompiledModule
   { cmBody :: forall s. Exec s Flow
   , cmFunctionMeanings :: IntMap Function
   , cmDataDefaults :: V.Vector Value -- ^ the initial data area: every slot at its type default
+  , cmCellSlots :: CellSlots
+  -- ^ the table of the cells a machine for this module holds ('newMachine'
+  -- is given it): an operand's slot in it is found when the closure is built
   }
 
 -- | The meaning of a function: arguments to result.
@@ -472,6 +503,7 @@ data Function = Function
 data Ctx = Ctx
   { cxPolicies :: Policies
   , cxFunctions :: IntMap Function
+  , cxCells :: CellSlots -- ^ the machine's table of held cells ('cmCellSlots')
   }
 
 -- | The meaning of an expression: a closure giving its value, and whether
@@ -696,10 +728,10 @@ failsM (Meaning f _ _ _) = f
 -- | Translate the whole module once. Functions refer to each other through
 -- the lazily built table of meanings (a knot: each function is translated
 -- once, however often it is called).
-compileModule :: Policies -> CModule -> CompiledModule
-compileModule pol cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults
+compileModule :: Policies -> CellSlots -> CModule -> CompiledModule
+compileModule pol table cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults table
   where
-    ctx = Ctx pol funs
+    ctx = Ctx pol funs table
     funs = IM.map (compileFunction ctx) (cmFunctions cm)
     prog = cmProgram cm
     defaults =
@@ -894,7 +926,7 @@ meaning ctx = \case
           Data i -> DataSlot i (defaultValue (varBasicType v))
           Frame i -> FrameSlot i (defaultValue (varBasicType v))
           _ -> Computed
-     in Meaning False (readRun v 0) leaf Untyped
+     in Meaning False (readRunIn ctx v 0) leaf Untyped
   CReadIndex line v ix ->
     let index = elementIndex pol line v
         -- the element closures, built once
@@ -1167,7 +1199,7 @@ compileStmt ctx = \case
             Data i -> toSlot (\m val -> writeSlot (mData m) i val)
             Frame i -> toSlot (\m val -> readSTRef (mFrame m) >>= \f -> writeFrame f i val)
             _ ->
-              let w = writeRun v 0
+              let w = writeRunIn ctx v 0
                in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
             where
               -- a slot of the data area or of the frame; a typed

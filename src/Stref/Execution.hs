@@ -56,7 +56,8 @@ import qualified Data.Vector as V
 import Data.Word (Word16, Word32)
 import Stref.Checked
 import Stref.Diagnostics
-import Stref.Eval
+import Stref.Eval hiding (compileModule)
+import qualified Stref.Eval as Eval
 import Stref.Operands
 import Stref.Policy
 import Stref.Types
@@ -93,11 +94,18 @@ data CallResult = CallResult
   }
   deriving (Eq, Show)
 
+-- | Translate a module once for all its calls, under the policies and the
+-- controller's configuration: the module's mapped cells and the diagnostic
+-- band are the cells a call holds in machine words, and a mapped variable's
+-- place among them is found during the translation.
+compileModule :: Policies -> PlcConfig -> CModule -> CompiledModule
+compileModule pol cfg cm = Eval.compileModule pol (cellSlots (mappedCells (cmMapped cm) ++ bandCells cfg)) cm
+
 -- | Run several calls in sequence, each on the state the previous one left.
 runCalls :: Policies -> PlcConfig -> CModule -> [CallInput] -> PlcState -> (PlcState, [CallResult])
 runCalls pol cfg cm inputs st0 = go st0 inputs
   where
-    compiled = compileModule pol cm
+    compiled = compileModule pol cfg cm
     go st [] = (st, [])
     go st (ci : rest) =
       let (st', r) = runCompiled pol cfg cm compiled ci st
@@ -106,7 +114,7 @@ runCalls pol cfg cm inputs st0 = go st0 inputs
 
 -- | Run one module call. The diagnostic band is written into the memory.
 runCall :: Policies -> PlcConfig -> CModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCall pol cfg cm = runCompiled pol cfg cm (compileModule pol cm)
+runCall pol cfg cm = runCompiled pol cfg cm (compileModule pol cfg cm)
 
 -- | 'runCall' with a module translated beforehand by 'compileModule' under
 -- the same policies (for many calls of one module). Applied to its first
@@ -122,7 +130,7 @@ runCompiledLazyVars :: Policies -> PlcConfig -> CModule -> CompiledModule -> Cal
 runCompiledLazyVars = runCompiledWith False
 
 runCompiledWith :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm of
+runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm compiled of
   CallSetup mappedChecked noParameters table band bandKeyed initialiseData -> \ci st ->
     let (input1, _, _) = ciInputs ci
         checks = do
@@ -147,9 +155,9 @@ data CallSetup = CallSetup
   ![(Cell, Int, Word32)] -- ^ the band's cells, their slots in the table, their patterns after a call without error
   (forall s. Exec s ())
 
-callSetup :: Policies -> PlcConfig -> CModule -> CallSetup
+callSetup :: Policies -> PlcConfig -> CModule -> CompiledModule -> CallSetup
 {-# NOINLINE callSetup #-}
-callSetup pol cfg cm =
+callSetup pol cfg cm compiled =
   CallSetup
     (checkMappedOperands lineBefore cfg (cmMapped cm))
     (checkChfParameters lineBefore cfg prog [] [])
@@ -161,7 +169,8 @@ callSetup pol cfg cm =
     prog = cmProgram cm
     lineBefore = pErrorLineBeforeStart pol -- A2
     band = bandCells cfg
-    table = cellSlots (mappedCells (cmMapped cm) ++ band)
+    -- the table the module was translated against ('compileModule')
+    table = cmCellSlots compiled
     -- the initialisation of the data area, translated once; the machine's
     -- data area starts at the type defaults whenever it is initialised (no
     -- retained slots then), so a variable there without an initialiser

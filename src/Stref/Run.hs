@@ -210,7 +210,7 @@ streamModule setup cm calls = do
   pure (st0, go st0 calls)
   where
     -- translated and checked once for all the calls
-    call = runCompiledLazyVars (rsPolicies setup) (rsPlc setup) cm (compileModule (rsPolicies setup) cm)
+    call = runCompiledLazyVars (rsPolicies setup) (rsPlc setup) cm (compileModule (rsPolicies setup) (rsPlc setup) cm)
     settings c mem = case csSet c of
       [] -> Right mem
       sets -> traverse (declared setup) sets >> either (Left . BadSetting) Right (applySettings sets mem)
