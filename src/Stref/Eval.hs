@@ -514,7 +514,7 @@ data Ctx = Ctx
 -- The 'Leaf' says when the expression is a constant or a variable in a slot,
 -- so that an operator over it reads the slot itself instead of calling a
 -- closure (the most common operands; a call per leaf would dominate).
-data Meaning s = Meaning !Bool (Run s Value) !Leaf !(Typed s)
+data Meaning s = Meaning !Bool !(Run s Value) !Leaf !(Typed s)
 
 data Leaf
   = Constant !Value
@@ -805,7 +805,7 @@ compileBlock ctx = go . map (compileStmt ctx)
     go [] = \_ _ -> pure Next
     go [s] = s
     go (s : ss) =
-      let rest = go ss
+      let !rest = go ss
        in \e m ->
             s e m >>= \case
               Next -> rest e m
@@ -1266,24 +1266,28 @@ compileStmt ctx = \case
   SIf arms elseB ->
     -- MT-STMT-6: the first true test selects its branch, else ELSE
     let armsR = [(l, meaning ctx c, compileBlock ctx b) | (l, c, b) <- arms]
-        elseR = compileBlock ctx elseB
+        !elseR = compileBlock ctx elseB
         firstLine = case arms of
           (l, _, _) : _ -> l
           [] -> 0
         go [] = elseR
-        go ((l, cM, bR) : rest) =
-          let restR = go rest
-           in \e m -> withValue cM e m $ \case
-                VBool True -> bR e m
-                VBool False -> restR e m
-                _ -> Failing <$ malformed l m
-        chain = go armsR
-     in \e m -> stepThen firstLine m (chain e m)
+        go ((l, cM, bR) : rest) = test l cM bR (go rest)
+        test l cM bR restR = \e m -> withValue cM e m $ \case
+          VBool True -> bR e m
+          VBool False -> restR e m
+          _ -> Failing <$ malformed l m
+        {-# INLINE test #-}
+     in case (armsR, elseB) of
+          -- the step and the first test in one closure; no call for an
+          -- absent ELSE
+          ([(l, cM, bR)], []) -> \e m -> stepThen firstLine m (test l cM bR (\_ _ -> pure Next) e m)
+          ((l, cM, bR) : rest, _) -> let !restR = go rest in \e m -> stepThen firstLine m (test l cM bR restR e m)
+          ([], _) -> \e m -> stepThen firstLine m (elseR e m)
   SCase line sel arms elseB ->
     -- MT-STMT-8: the first arm with a matching value or inclusive range
     let selM = meaning ctx sel
         armsR = [(ranges, compileBlock ctx b) | (ranges, b) <- arms]
-        elseR = compileBlock ctx elseB
+        !elseR = compileBlock ctx elseB
         pick _ [] = elseR
         pick k ((ranges, bR) : rest)
           | any (\(lo, hi) -> lo <= k && k <= hi) ranges = bR
@@ -1294,7 +1298,7 @@ compileStmt ctx = \case
   SWhile line c body ->
     -- MT-STMT-13: the test before each iteration
     let cM = meaning ctx c
-        bodyR = compileBlock ctx body
+        !bodyR = compileBlock ctx body
         loop e m = stepThen line m $ withValue cM e m $ \case
           VBool False -> pure Next
           VBool True ->
@@ -1307,7 +1311,7 @@ compileStmt ctx = \case
   SRepeat body uline c ->
     -- MT-STMT-14: the body first, the loop ends when the test is TRUE
     let cM = meaning ctx c
-        bodyR = compileBlock ctx body
+        !bodyR = compileBlock ctx body
         loop e m =
           bodyR e m >>= \case
             Exiting -> pure Next
@@ -1353,8 +1357,16 @@ compileFor ctx line cv start end by body = \e m ->
         case (pForAtTypeMax pol, intRangeInt, valueToInt en, valueToInt st) of
           (StopAtEnd, Just (lo, hi), Just enI, Just stI) -> case varHome cv of
             -- the control variable read and written in place
-            Data i -> intLoop (\_ m' -> readSlot (mData m') zero i) (\x _ m' -> writeSlot (mData m') i x) lo hi enI stI e m
-            _ -> intLoop readCv writeCv lo hi enI stI e m
+            Data i ->
+              let rd = \_ m' -> readSlot (mData m') zero i
+                  wr = \x _ m' -> writeSlot (mData m') i x
+               in -- the new value boxed by code chosen here, not on every step
+                  case t of
+                    INT -> intLoop rd wr (\n -> VInt (fromIntegral n)) lo hi enI stI e m
+                    DINT -> intLoop rd wr (\n -> VDInt (fromIntegral n)) lo hi enI stI e m
+                    USINT -> intLoop rd wr (\n -> VUSInt (fromIntegral n)) lo hi enI stI e m
+                    _ -> intLoop rd wr (intToValue t) lo hi enI stI e m
+            _ -> intLoop readCv writeCv (intToValue t) lo hi enI stI e m
           _ -> loop (\_ _ k -> k en st) e m
       ForEveryIteration -> loop (\e' m' k -> withValue endM e' m' $ \en -> withValue stepM e' m' $ \st -> k en st) e m
   where
@@ -1365,7 +1377,7 @@ compileFor ctx line cv start end by body = \e m ->
     startM = meaning ctx start
     endM = meaning ctx end
     stepM = meaning ctx by
-    bodyR = compileBlock ctx body
+    !bodyR = compileBlock ctx body
     readCv = readRun cv 0
     writeCv = writeRun cv 0
     t = varBasicType cv
@@ -1389,7 +1401,7 @@ compileFor ctx line cv start end by body = \e m ->
             else pure Next
     -- the same loop for the common case, an integer control variable with
     -- bounds evaluated once and @stop-at-end@, on machine integers
-    intLoop rd wr lo hi enI stI e m =
+    intLoop rd wr box lo hi enI stI e m =
       rd e m >>= \c -> case valueToInt c of
         Just ci -> go ci
         Nothing -> Failing <$ malformed line m
@@ -1409,7 +1421,7 @@ compileFor ctx line cv start end by body = \e m ->
                       rd e m >>= \c' -> case valueToInt c' of
                         Just ci'
                           | ci' + stI < lo || ci' + stI > hi -> pure Next
-                          | otherwise -> let n = ci' + stI in (wr $! intToValue t n) e m >> go n
+                          | otherwise -> let n = ci' + stI in (wr $! box n) e m >> go n
                         Nothing -> Failing <$ malformed line m
                     Exiting -> pure Next
                     other -> pure other
