@@ -996,12 +996,7 @@ meaning ctx = \case
             !ia = intArith pol t
             on o = intMeaning canFail t (intBinary ma mb 0 (\x y m -> intOp (flagged m) plain (raised m) ia o x y) typedInt)
             {-# INLINE on #-}
-         in case op of
-              OpAdd -> on OpAdd
-              OpSub -> on OpSub
-              OpMul -> on OpMul
-              OpDiv -> on OpDiv
-              OpMod -> on OpMod
+         in eachArithOp on op
   CArith line op REAL a b ->
     -- MT-OP-4, A6 on binary32 values
     let ma = meaning ctx a
@@ -1012,12 +1007,7 @@ meaning ctx = \case
         raised m c = 0 <$ raise m (runtimeError c line)
         on o = realMeaning canFail (realBinary ma mb 0 (\x y m -> O.realArithWith (flagged m) plain (raised m) pol o x y) typedReal)
         {-# INLINE on #-}
-     in case op of
-          OpAdd -> on OpAdd
-          OpSub -> on OpSub
-          OpMul -> on OpMul
-          OpDiv -> on OpDiv
-          OpMod -> on OpMod
+     in eachArithOp on op
   CArith line op t a b -> case arithFast pol op t of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\m x y -> result line m (f x y)) True
   CCompare op t a b

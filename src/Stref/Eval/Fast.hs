@@ -24,6 +24,7 @@ module Stref.Eval.Fast
   , intArith
   , intOp
   , arithCanFail
+  , eachArithOp
   , range
   , compareFast
   , convertFast
@@ -89,21 +90,9 @@ arithFast p op t = case t of
             (Just x, Just y) -> intOp (\n f -> Flagged (mk n) f) (Plain . mk) Raised ia o x y
             _ -> reference a b
           {-# INLINE on #-}
-       in case op of
-            OpAdd -> on OpAdd
-            OpSub -> on OpSub
-            OpMul -> on OpMul
-            OpDiv -> on OpDiv
-            OpMod -> on OpMod
+       in eachArithOp on op
     {-# INLINE intArithValues #-}
-    -- the operator chosen here, so that each closure holds the code of one
-    -- operator only
-    realArith o lift = case o of
-      OpAdd -> lift (onReal OpAdd)
-      OpSub -> lift (onReal OpSub)
-      OpMul -> lift (onReal OpMul)
-      OpDiv -> lift (onReal OpDiv)
-      OpMod -> lift (onReal OpMod)
+    realArith o lift = eachArithOp (\o' -> lift (onReal o')) o
     onReal = O.realArithWith (\r o -> Flagged (VReal r) o) (Plain . VReal) Raised p
     {-# INLINE realArith #-}
 
@@ -271,6 +260,18 @@ convertFast p from to = Unary $ case (from, to) of
       NarrowWrap -> \case VDInt x -> mk (fromIntegral x :: Int); v -> ref v
       NarrowSaturate -> \case VDInt x -> let (l, h) = range t in mk (max l (min h (fromIntegral (x :: Int32)))); v -> ref v
 
+
+-- | @f@ at the given operator, written out for each operator: every use of
+-- @f@ receives its operator as a constant, so that a closure built by @f@
+-- holds the code of that one operator (inlined where @f@ is known).
+eachArithOp :: (ArithOp -> r) -> ArithOp -> r
+eachArithOp f = \case
+  OpAdd -> f OpAdd
+  OpSub -> f OpSub
+  OpMul -> f OpMul
+  OpDiv -> f OpDiv
+  OpMod -> f OpMod
+{-# INLINE eachArithOp #-}
 
 -- | Whether an arithmetic operation can end in a runtime error under the
 -- policies: division and MOD (by zero, MT-OP-9, MT-OP-8), + - * on integers
