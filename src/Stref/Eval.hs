@@ -620,14 +620,10 @@ intMeaning canFail t (StagedInt r) = case boxed t r of
 
 -- | The value of a typed closure's number, the type chosen once.
 boxed :: BasicType -> IntRun s -> Staged s
-boxed t r = case t of
-  INT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VInt (fromIntegral n)
-  DINT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VDInt (fromIntegral n)
-  USINT -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VUSInt (fromIntegral n)
-  BYTE -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VByte (fromIntegral n)
-  WORD -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VWord (fromIntegral n)
-  DWORD -> Staged $ \e m -> runInt r e m >>= \n -> pure $! VDWord (fromIntegral n)
-  _ -> Staged $ \e m -> runInt r e m >>= \n -> pure $! intToValue t n
+boxed t r = eachIntBox t box
+  where
+    box mk = Staged $ \e m -> runInt r e m >>= \n -> pure $! mk n
+    {-# INLINE box #-}
 
 -- | The typed closure of an operand of an 'intTyped' type: a leaf read
 -- directly, a typed closure as it is, any other closure's value taken apart.
@@ -635,7 +631,6 @@ intRunOf :: Meaning s -> IntRun s
 intRunOf (Meaning _ r leaf typed) = case (leaf, typed) of
   (Computed, IntTyped ir) -> ir
   (Computed, IntOfLeaf l) -> ofLeaf l
-  (Computed, _) -> intRun (\e m -> numberOf <$> r e m)
   (l, _) -> ofLeaf l
   where
     ofLeaf = \case
@@ -1015,30 +1010,18 @@ meaning ctx = \case
         -- MT-OP-11 on numbers
         let ma = meaning ctx a
             mb = meaning ctx b
-            on cmp = case intBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmp x y))) Staged of
+            on o = case intBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmpWith o x y))) Staged of
               Staged r -> computed (failsM ma || failsM mb) r
             {-# INLINE on #-}
-         in case op of
-              OpLt -> on (<)
-              OpGt -> on (>)
-              OpLe -> on (<=)
-              OpGe -> on (>=)
-              OpEq -> on (==)
-              OpNe -> on (/=)
+         in eachCmpOp on op
   CCompare op REAL a b ->
     -- MT-OP-11 in IEEE order
     let ma = meaning ctx a
         mb = meaning ctx b
-        on cmp = case realBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmp x y))) Staged of
+        on o = case realBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmpWith o x y))) Staged of
           Staged r -> computed (failsM ma || failsM mb) r
         {-# INLINE on #-}
-     in case op of
-          OpLt -> on (<)
-          OpGt -> on (>)
-          OpLe -> on (<=)
-          OpGe -> on (>=)
-          OpEq -> on (==)
-          OpNe -> on (/=)
+     in eachCmpOp on op
   CCompare op _ a b -> case compareFast op of
     Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (boolValue (f x y))) False
   CLogic op t a b
@@ -1203,14 +1186,7 @@ compileStmt ctx = \case
                         bad <- if canFail then hasFailed m else pure False
                         if bad then pure Failing else Next <$ write m (mk n)
                       {-# INLINE assign #-}
-                   in case cexprType x of
-                        INT -> assign (\n -> VInt (fromIntegral n))
-                        DINT -> assign (\n -> VDInt (fromIntegral n))
-                        USINT -> assign (\n -> VUSInt (fromIntegral n))
-                        BYTE -> assign (\n -> VByte (fromIntegral n))
-                        WORD -> assign (\n -> VWord (fromIntegral n))
-                        DWORD -> assign (\n -> VDWord (fromIntegral n))
-                        t -> assign (intToValue t)
+                   in eachIntBox (cexprType x) assign
                 Meaning canFail _ Computed (RealTyped r) -> \e m -> stepThen line m $ do
                   val <- runReal r e m
                   bad <- if canFail then hasFailed m else pure False
@@ -1350,12 +1326,10 @@ compileFor ctx line cv start end by body = \e m ->
             Data i ->
               let rd = \_ m' -> readSlot (mData m') zero i
                   wr = \x _ m' -> writeSlot (mData m') i x
+                  loopBoxing box = intLoop rd wr box lo hi enI stI e m
+                  {-# INLINE loopBoxing #-}
                in -- the new value boxed by code chosen here, not on every step
-                  case t of
-                    INT -> intLoop rd wr (\n -> VInt (fromIntegral n)) lo hi enI stI e m
-                    DINT -> intLoop rd wr (\n -> VDInt (fromIntegral n)) lo hi enI stI e m
-                    USINT -> intLoop rd wr (\n -> VUSInt (fromIntegral n)) lo hi enI stI e m
-                    _ -> intLoop rd wr (intToValue t) lo hi enI stI e m
+                  eachIntBox t loopBoxing
             _ -> intLoop readCv writeCv (intToValue t) lo hi enI stI e m
           _ -> loop (\_ _ k -> k en st) e m
       ForEveryIteration -> loop (\e' m' k -> withValue endM e' m' $ \en -> withValue stepM e' m' $ \st -> k en st) e m

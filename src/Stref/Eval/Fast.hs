@@ -25,6 +25,9 @@ module Stref.Eval.Fast
   , intOp
   , arithCanFail
   , eachArithOp
+  , eachCmpOp
+  , cmpWith
+  , eachIntBox
   , range
   , compareFast
   , convertFast
@@ -205,16 +208,10 @@ range = \case
 
 -- | 'O.compareValues' with the operator fixed once (MT-OP-11).
 compareFast :: CmpOp -> Binary Bool
-compareFast op = Binary $ case op of
-  OpLt -> go (<) (<)
-  OpGt -> go (>) (>)
-  OpLe -> go (<=) (<=)
-  OpGe -> go (>=) (>=)
-  OpEq -> go (==) (==)
-  OpNe -> go (/=) (/=)
+compareFast = eachCmpOp (\o -> Binary (go o (cmpWith o) (cmpWith o)))
   where
-    go :: (Int -> Int -> Bool) -> (Float -> Float -> Bool) -> Value -> Value -> Bool
-    go cmpI cmpR a b = case (a, b) of
+    go :: CmpOp -> (Int -> Int -> Bool) -> (Float -> Float -> Bool) -> Value -> Value -> Bool
+    go op cmpI cmpR a b = case (a, b) of
       (VInt x, VInt y) -> cmpI (fromIntegral x) (fromIntegral y)
       (VDInt x, VDInt y) -> cmpI (fromIntegral x) (fromIntegral y)
       (VReal x, VReal y) -> cmpR x y
@@ -272,6 +269,42 @@ eachArithOp f = \case
   OpDiv -> f OpDiv
   OpMod -> f OpMod
 {-# INLINE eachArithOp #-}
+
+-- | 'eachArithOp' for the comparison operators.
+eachCmpOp :: (CmpOp -> r) -> CmpOp -> r
+eachCmpOp f = \case
+  OpLt -> f OpLt
+  OpGt -> f OpGt
+  OpLe -> f OpLe
+  OpGe -> f OpGe
+  OpEq -> f OpEq
+  OpNe -> f OpNe
+{-# INLINE eachCmpOp #-}
+
+-- | A comparison operator on numbers of one type (MT-OP-11; on 'Float' the
+-- IEEE comparisons).
+cmpWith :: Ord a => CmpOp -> a -> a -> Bool
+cmpWith = \case
+  OpLt -> (<)
+  OpGt -> (>)
+  OpLe -> (<=)
+  OpGe -> (>=)
+  OpEq -> (==)
+  OpNe -> (/=)
+{-# INLINE cmpWith #-}
+
+-- | @f@ given the boxing of a number as a value of the type, written out for
+-- each integer type: code built by @f@ boxes without looking at the type.
+eachIntBox :: BasicType -> ((Int -> Value) -> r) -> r
+eachIntBox t f = case t of
+  INT -> f (\n -> VInt (fromIntegral n))
+  DINT -> f (\n -> VDInt (fromIntegral n))
+  USINT -> f (\n -> VUSInt (fromIntegral n))
+  BYTE -> f (\n -> VByte (fromIntegral n))
+  WORD -> f (\n -> VWord (fromIntegral n))
+  DWORD -> f (\n -> VDWord (fromIntegral n))
+  _ -> f (intToValue t)
+{-# INLINE eachIntBox #-}
 
 -- | Whether an arithmetic operation can end in a runtime error under the
 -- policies: division and MOD (by zero, MT-OP-9, MT-OP-8), + - * on integers
