@@ -349,7 +349,7 @@ buildRead v off = Built $ case varHome v of
   Data i -> let k = i + off in \_ m -> readSlot (mData m) def k
   Frame i -> let k = i + off in \_ m -> readSTRef (mFrame m) >>= \f -> readFrame f def k
   Mapped o -> mappedRead (elementOperand o off) t
-  SignalInput n -> \e _ -> pure (VBool (signal n (envInputs e)))
+  SignalInput n -> \e _ -> pure $! VBool (signal n (envInputs e))
   SignalOutput n -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) (ixOutput (clampSignal n))
   OverflowFlag -> \_ m -> VBool . (/= 0) <$> MU.unsafeRead (mCounters m) ixOverflow
   where
@@ -383,6 +383,24 @@ mappedWriteAt table o = case lookupSlot table (cellKey (operandCell o)) of
     | j >= 0 -> case operandWriter o of
         !toPattern -> Built $ \x _ m -> readCellValue (mCells m) j >>= \w -> writeCellValue (mCells m) j $! toPattern x w
     | otherwise -> Built $ \x _ m -> modifySTRef' (mMemory m) (writeOperand o x)
+
+-- | The slot of a mapped variable's cell among those the machine holds,
+-- when it is a whole cell (not a bit) the table holds; else -1.
+heldSlot :: CellSlots -> Operand -> Int
+heldSlot table o = case o of
+  OpBit {} -> -1
+  _ -> lookupSlot table (cellKey (operandCell o))
+
+-- | The typed closure reading a mapped variable of an integer, bit-string
+-- or REAL type from its held cell (the pattern's number, no 'Value').
+mappedTypedAt :: CellSlots -> Operand -> BasicType -> Typed s
+{-# NOINLINE mappedTypedAt #-}
+mappedTypedAt table o t = case heldSlot table o of
+  j
+    | j < 0 -> Untyped
+    | intTyped t -> eachPatternNumber t $ \number -> IntTyped (intRun (\_ m -> number <$> readCellValue (mCells m) j))
+    | t == REAL -> RealTyped (realRun (\_ m -> realFromBits <$> readCellValue (mCells m) j))
+    | otherwise -> Untyped
 
 -- | Read an operand: its cell in the machine's table, else in the memory.
 -- The key and the conversion are chosen before the closure is built.
@@ -921,7 +939,10 @@ meaning ctx = \case
           Data i -> DataSlot i (defaultValue (varBasicType v))
           Frame i -> FrameSlot i (defaultValue (varBasicType v))
           _ -> Computed
-     in Meaning False (readRunIn ctx v 0) leaf Untyped
+        typed = case varHome v of
+          Mapped o -> mappedTypedAt (cxCells ctx) o (varBasicType v)
+          _ -> Untyped
+     in Meaning False (readRunIn ctx v 0) leaf typed
   CReadIndex line v ix ->
     let index = elementIndex pol line v
         -- the element closures, built once
@@ -989,7 +1010,12 @@ meaning ctx = \case
             plain n = pure $! n
             raised m c = 0 <$ raise m (runtimeError c line)
             !ia = intArith pol t
-            on o = intMeaning canFail t (intBinary ma mb 0 (\x y m -> intOp (flagged m) plain (raised m) ia o x y) typedInt)
+            on o =
+              -- named and inlined: intBinary uses it in each of its cases,
+              -- and a shared function would box its result
+              let apply x y m = intOp (flagged m) plain (raised m) ia o x y
+                  {-# INLINE apply #-}
+               in intMeaning canFail t (intBinary ma mb 0 apply typedInt)
             {-# INLINE on #-}
          in eachArithOp on op
   CArith line op REAL a b ->
@@ -1010,7 +1036,7 @@ meaning ctx = \case
         -- MT-OP-11 on numbers
         let ma = meaning ctx a
             mb = meaning ctx b
-            on o = case intBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmpWith o x y))) Staged of
+            on o = case intBinary ma mb (VBool False) (\x y _ -> pure $! boolValue (cmpWith o x y)) Staged of
               Staged r -> computed (failsM ma || failsM mb) r
             {-# INLINE on #-}
          in eachCmpOp on op
@@ -1018,12 +1044,12 @@ meaning ctx = \case
     -- MT-OP-11 in IEEE order
     let ma = meaning ctx a
         mb = meaning ctx b
-        on o = case realBinary ma mb (VBool False) (\x y _ -> pure (boolValue (cmpWith o x y))) Staged of
+        on o = case realBinary ma mb (VBool False) (\x y _ -> pure $! boolValue (cmpWith o x y)) Staged of
           Staged r -> computed (failsM ma || failsM mb) r
         {-# INLINE on #-}
      in eachCmpOp on op
   CCompare op _ a b -> case compareFast op of
-    Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure (boolValue (f x y))) False
+    Binary f -> binary (meaning ctx a) (meaning ctx b) (\_ x y -> pure $! boolValue (f x y)) False
   CLogic op t a b
     | t `elem` [BYTE, WORD, DWORD] ->
         -- MT-OP-12..14 bit by bit on the numbers (both below 2^32)
@@ -1171,10 +1197,26 @@ compileStmt ctx = \case
           LTVar v -> case varHome v of
             Data i -> toSlot (\m val -> writeSlot (mData m) i val)
             Frame i -> toSlot (\m val -> readSTRef (mFrame m) >>= \f -> writeFrame f i val)
-            _ ->
-              let w = writeRunIn ctx v 0
-               in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
+            Mapped o
+              | j <- heldSlot (cxCells ctx) o, j >= 0 ->
+                  -- a held cell: the pattern of the number written straight
+                  let !mask = cellMask (operandCell o)
+                      store :: (Env -> Machine s -> ST s x) -> (x -> Word32) -> Run s Flow
+                      store r pattern = \e m -> stepThen line m $ do
+                        x <- r e m
+                        bad <- if failsM xM then hasFailed m else pure False
+                        if bad then pure Failing else Next <$ writeCellValue (mCells m) j (pattern x .&. mask)
+                      {-# INLINE store #-}
+                   in case cexprType x of
+                        t
+                          | intTyped t -> case intRunOf xM of !r -> store (runInt r) fromIntegral
+                          | t == REAL -> case realRunOf xM of !r -> store (runReal r) realBits
+                        _ -> generic
+            _ -> generic
             where
+              generic =
+                let w = writeRunIn ctx v 0
+                 in \e m -> stepThen line m $ withValue xM e m $ \val -> Next <$ w val e m
               -- a slot of the data area or of the frame; a typed
               -- expression's number is boxed as the slot's value here,
               -- without calling its 'Value' closure

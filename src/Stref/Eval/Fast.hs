@@ -28,6 +28,7 @@ module Stref.Eval.Fast
   , eachCmpOp
   , cmpWith
   , eachIntBox
+  , eachPatternNumber
   , range
   , compareFast
   , convertFast
@@ -36,7 +37,7 @@ module Stref.Eval.Fast
   ) where
 
 import Data.Int (Int16, Int32)
-import Data.Word (Word16, Word8)
+import Data.Word (Word16, Word32, Word8)
 import Stref.Checked (ArithOp (..), CmpOp (..))
 import Stref.Conversions (convert)
 import Stref.Diagnostics
@@ -305,6 +306,19 @@ eachIntBox t f = case t of
   DWORD -> f (\n -> VDWord (fromIntegral n))
   _ -> f (intToValue t)
 {-# INLINE eachIntBox #-}
+
+-- | The number of a value of an integer or bit-string type held by a cell's
+-- pattern, given to @f@: the pattern's low bits as the type reads them
+-- (@numberOf (wordToValue t w)@ without the 'Value'), the type chosen once.
+eachPatternNumber :: BasicType -> ((Word32 -> Int) -> r) -> r
+eachPatternNumber t f = case t of
+  INT -> f (\w -> fromIntegral (fromIntegral w :: Int16))
+  DINT -> f (\w -> fromIntegral (fromIntegral w :: Int32))
+  USINT -> f (\w -> fromIntegral (fromIntegral w :: Word8))
+  BYTE -> f (\w -> fromIntegral (fromIntegral w :: Word8))
+  WORD -> f (\w -> fromIntegral (fromIntegral w :: Word16))
+  _ -> f fromIntegral
+{-# INLINE eachPatternNumber #-}
 
 -- | Whether an arithmetic operation can end in a runtime error under the
 -- policies: division and MOD (by zero, MT-OP-9, MT-OP-8), + - * on integers
