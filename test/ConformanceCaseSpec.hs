@@ -34,6 +34,16 @@ m = OpSimple KM
 spec :: Spec
 spec = describe "Conformance case files" $ do
   expectIfSpec
+  it "loads a case named twice (a directory and a file in it) once" $ do
+    whole <- loadCorpus [fixtureCorpus]
+    let file = fixtureCorpus </> "mastertool-xe" </> "arith" </> "int-add-saturates.st"
+    twice <- loadCorpus [fixtureCorpus, file, file]
+    map entryId (corpusEntries twice) `shouldBe` map entryId (corpusEntries whole)
+  it "loads the same entries with several workers" $ do
+    one <- loadCorpus [fixtureCorpus]
+    three <- loadCorpusWith 3 [fixtureCorpus]
+    map entryId (corpusEntries three) `shouldBe` map entryId (corpusEntries one)
+    [c | Loaded c <- corpusEntries three] `shouldBe` [c | Loaded c <- corpusEntries one]
   it "loads the contract's example case with its id, area, metadata and defaults" $ do
     c <- loaded "mastertool-xe/arith/int-add-saturates"
     caseDialect c `shouldBe` "mastertool-xe"

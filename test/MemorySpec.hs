@@ -2,6 +2,7 @@
 -- 'putCells'): it must behave as the one map it stands for.
 module MemorySpec (spec) where
 
+import qualified Data.Set as S
 import Data.Word (Word32)
 import Stref.Operands
 import Stref.Types (BasicType (..))
@@ -11,6 +12,10 @@ import Test.QuickCheck
 
 cells :: [Cell]
 cells = [CellSimple KM a | a <- [200 .. 205]] ++ [CellTable TM 10 p | p <- [0 .. 3]] ++ [CellSimple KI 20, CellSimple KE 1]
+
+-- | %M0000..%M1999 and a table of 1000 positions.
+manyCells :: [Cell]
+manyCells = [CellSimple KM a | a <- [0 .. 1999]] ++ [CellTable TI 5 p | p <- [0 .. 999]]
 
 writes :: Gen [(Cell, Word32)]
 writes = listOf ((,) <$> elements cells <*> arbitrary)
@@ -36,6 +41,16 @@ spec = describe "Memory with cells held apart" $ do
             , show apart === show plain
             , map (readCell apart) cells === map (readCell plain) cells
             , map (lookupCell apart) cells === map (lookupCell plain) cells
+            ]
+  it "finds every cell of a table at a slot holding it, and no other cell" $
+    -- up to 3000 cells, with repetitions: a table far larger than a module's
+    forAll (listOf (elements manyCells)) $ \given ->
+      let table = cellSlots given
+          slot c = lookupSlot table (cellKey c)
+       in conjoin
+            [ conjoin [counterexample (show c) (slot c >= 0) | c <- given]
+            , length (filter (>= 0) (map slot manyCells)) === length (S.fromList given)
+            , S.size (S.fromList (filter (>= 0) (map slot given))) === S.size (S.fromList given)
             ]
   it "distinguishes a cell never written from one written with 0, as the map does" $ do
     let c = CellSimple KM 200

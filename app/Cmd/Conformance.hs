@@ -102,7 +102,11 @@ run o = case resolvePolicies (oPreset o) (oPolicies o) of
       Left e -> usage e
       Right knownSet -> do
         let paths = if null (oPaths o) then ["conformance"] else oPaths o
-        corpus <- loadCorpus paths
+        -- the cases are parsed, and the reference engine computes, in this
+        -- process: use the cores
+        cores <- getNumProcessors
+        when (oJobs o > 1) (setNumCapabilities (max 1 (min (oJobs o) cores)))
+        corpus <- loadCorpusWith (oJobs o) paths
         mapM_ (TIO.hPutStrLn stderr) (corpusErrors corpus)
         if null (corpusEntries corpus)
           then usage ("no case files (*.st) under " <> T.intercalate ", " (map T.pack paths))
@@ -120,9 +124,6 @@ run o = case resolvePolicies (oPreset o) (oPolicies o) of
                     , roKnownFailures = knownSet
                     , roMaxAnswerBytes = oMaxAnswer o
                     }
-            -- the reference engine computes in this process: use the cores
-            cores <- getNumProcessors
-            when (oJobs o > 1) (setNumCapabilities (max 1 (min (oJobs o) cores)))
             results <- runCorpus options corpus
             let ids = S.fromList (map resId results)
                 staleKnown = [k | k <- S.toList knownSet, k `S.notMember` ids]

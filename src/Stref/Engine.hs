@@ -89,13 +89,17 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
     observe mem observed res =
       let (o1, o2, o3) = crOutputs res
           operands = M.fromList [(t, readScalar mem op) | (t, op) <- observed]
-          vars = M.fromList [(name, valueScalar v) | name <- obsVars (rqObserve rq), Just v <- [lookupVar name (crVars res)]]
+          vars = M.fromList [(name, valueScalar v) | name <- obsVars (rqObserve rq), Just v <- [lookupVar name]]
+          -- exact spelling first, else any case (the names in upper case
+          -- built once, the first of equal names kept)
+          lookupVar name = case lookup name (crVars res) of
+            Just v -> Just v
+            Nothing -> M.lookup (T.map toUpper name) upperNames
+          upperNames = M.fromListWith (\_ first -> first) [(T.map toUpper n, v) | (n, v) <- crVars res]
           err = fmap (\(RuntimeError c l (a, b, d)) -> ErrorReport c (Just l) (Just (a, b, d))) (crError res)
           ob = Observation operands vars (M.fromList [("OUTPUT1", o1), ("OUTPUT2", o2), ("OUTPUT3", o3)]) err
        in AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob
-    lookupVar name vs = case lookup name vs of
-      Just v -> Just v
-      Nothing -> lookup (T.map toUpper name) [(T.map toUpper n, v) | (n, v) <- vs]
+
 
 -- | An operand's value as the answer reports it: a bit as true/false, %F
 -- and %TF as a binary32, the others as the signed reading of the pattern.

@@ -53,13 +53,17 @@ module Stref.Operands
 
 import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.), (.|.))
 import Data.Char (isDigit, isSpace, toUpper)
-import Data.List (nub)
+import Control.Monad (forM)
+import Control.Monad.ST (runST)
+import Data.Containers.ListUtils (nubOrd)
 import GHC.Exts (isTrue#, reallyUnsafePtrEquality#)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
 import qualified Data.Vector as V
+import qualified Data.Vector.Mutable as MV
 import qualified Data.Vector.Unboxed as U
+import qualified Data.Vector.Unboxed.Mutable as MU
 import Data.Word (Word32, Word64)
 import Stref.Syntax (OperandRef (..), OperandSub (..))
 import Stref.Types
@@ -427,24 +431,25 @@ cellKey c = CellKey key (hash key)
     -- Fibonacci hashing; the table's mask takes the low bits
     hash k = fromIntegral ((fromIntegral k * 0x9E3779B97F4A7C15 :: Word64) `shiftR` 32)
 
--- | The table of the given cells (duplicates once), at most half full.
+-- | The table of the given cells (duplicates once), at most half full;
+-- each cell at the first free slot from its hash, in the order given.
 cellSlots :: [Cell] -> CellSlots
-cellSlots cells0 = CellSlots mask keys cellsV used
+cellSlots cells0 = runST $ do
+  keysM <- MU.replicate size noKey
+  cellsM <- MV.replicate size (CellSimple KM 0)
+  let -- a free slot exists: the table is at most half full
+      free j = MU.read keysM j >>= \k -> if k == noKey then pure j else free ((j + 1) .&. mask)
+  used <- forM cells $ \c -> do
+    let CellKey k h = cellKey c
+    j <- free (h .&. mask)
+    MU.write keysM j k
+    MV.write cellsM j c
+    pure j
+  CellSlots mask <$> U.freeze keysM <*> V.freeze cellsM <*> pure (U.fromList used)
   where
-    cells = [c | c <- nub cells0, let CellKey k _ = cellKey c, k /= noKey]
+    cells = [c | c <- nubOrd cells0, let CellKey k _ = cellKey c, k /= noKey]
     size = until (>= 2 * length cells) (* 2) 1
     mask = size - 1
-    placed = foldl place [] cells
-    -- (slot, cell), each cell at the first free slot from its hash
-    place acc c =
-      let CellKey _ h = cellKey c
-          taken j = any ((== j) . fst) acc
-          -- a free slot exists: the table is at most half full
-          free j = if taken j then free ((j + 1) .&. mask) else j
-       in (free (h .&. mask), c) : acc
-    keys = U.replicate size noKey U.// [(j, let CellKey k _ = cellKey c in k) | (j, c) <- placed]
-    cellsV = V.replicate size (CellSimple KM 0) V.// placed
-    used = U.fromList (reverse (map fst placed))
 
 -- | The slot of a cell, or -1 when the table does not hold it.
 lookupSlot :: CellSlots -> CellKey -> Int

@@ -8,13 +8,15 @@ module Stref.Conformance.Corpus
   , entryId
   , Corpus (..)
   , loadCorpus
+  , loadCorpusWith
   , findCaseFiles
   , readKnownFailures
   ) where
 
-import Control.Exception (IOException, try)
+import Control.Exception (IOException, evaluate, try)
 import Control.Monad (forM)
-import Data.List (isSuffixOf, nub, sort, sortOn)
+import Data.Containers.ListUtils (nubOrd)
+import Data.List (isSuffixOf, sort, sortOn)
 import qualified Data.Map.Strict as M
 import qualified Data.Set as S
 import Data.Text (Text)
@@ -24,6 +26,7 @@ import System.Directory
 import System.FilePath
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Conformance.Case
+import Stref.Conformance.Parallel (inParallel)
 import Stref.Conformance.Rules
 
 -- | A case file: loaded, or the precise reason it could not be.
@@ -55,7 +58,7 @@ findCaseFiles paths = do
         if isDir
           then ([],) <$> walk p
           else pure (["no such file or directory: " <> T.pack p], [])
-  pure (concatMap fst found, nub (concatMap snd found))
+  pure (concatMap fst found, nubOrd (concatMap snd found))
   where
     walk dir = do
       names <- sort <$> listDirectory dir
@@ -68,7 +71,11 @@ findCaseFiles paths = do
 
 -- | Load every case under the paths, each against its dialect's RULES.
 loadCorpus :: [FilePath] -> IO Corpus
-loadCorpus paths = do
+loadCorpus = loadCorpusWith 1
+
+-- | 'loadCorpus' with the cases read and parsed by @jobs@ workers.
+loadCorpusWith :: Int -> [FilePath] -> IO Corpus
+loadCorpusWith jobs paths = do
   (missing, files) <- findCaseFiles paths
   located <- forM files $ \f -> do
     abs' <- makeAbsolute f
@@ -79,9 +86,13 @@ loadCorpus paths = do
     let rf = d </> rulesFileName
     txt <- readUtf8 rf
     pure (d, either (Left . pure) (parseRules rf) txt)
-  let indexOf = M.fromList indexes
+  -- each dialect's rule ids, as a set built once
+  let indexOf = M.fromList [(d, fmap (\rules -> S.fromList (map ruleId rules)) r) | (d, r) <- indexes]
       rulesErrors = concat [es | (_, Left es) <- indexes]
-  entries <- forM located $ \(f, abs', mdir) -> case mdir of
+  let eachCase work
+        | jobs <= 1 = forM located work
+        | otherwise = inParallel jobs (\x -> work x >>= evaluate) located -- parsed by the worker
+  entries <- eachCase $ \(f, abs', mdir) -> case mdir of
     Nothing ->
       pure (Invalid (T.pack (dropExtension f)) f (T.pack f <> ":1: no RULES index in any directory above this case; a corpus is laid out as <dialect>/RULES and <dialect>/<area>/<case>.st"))
     Just d -> do
@@ -94,8 +105,7 @@ loadCorpus paths = do
             _ -> ""
           origin = CaseOrigin cid dialect area
       case M.lookup d indexOf of
-        Just (Right rules) -> do
-          let known = S.fromList (map ruleId rules)
+        Just (Right known) -> do
           txt <- readUtf8 f
           pure $ case txt of
             Left e -> Invalid cid f e

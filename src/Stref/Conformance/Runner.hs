@@ -25,9 +25,8 @@ module Stref.Conformance.Runner
   ) where
 
 import Control.Concurrent (forkIO)
-import Control.Concurrent.Async (async, cancel, mapConcurrently, wait, waitCatch)
-import Control.Concurrent.QSem
-import Control.Exception (SomeAsyncException, SomeException, bracket_, evaluate, fromException, throwIO, try)
+import Control.Concurrent.Async (async, cancel, wait, waitCatch)
+import Control.Exception (SomeAsyncException, SomeException, evaluate, fromException, throwIO, try)
 import Control.Monad (void, when)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Lazy as BL
@@ -47,6 +46,7 @@ import System.Timeout (timeout)
 import Stref.Checked (ModuleKind (..))
 import Stref.Conformance.Case
 import Stref.Conformance.Corpus
+import Stref.Conformance.Parallel (inParallel)
 import Stref.Conformance.Protocol
 import Stref.Engine (referenceEngine)
 import Stref.Operands
@@ -141,10 +141,8 @@ selected o c
 -- | Run the corpus's entries (after sharding) and return one result each.
 runCorpus :: RunOptions -> Corpus -> IO [CaseResult]
 runCorpus o corpus = do
-  sem <- newQSem (max 1 (roJobs o))
   let entries = [e | (k, e) <- zip [0 ..] (corpusEntries corpus), inShard (roShard o) k]
-      one e = bracket_ (waitQSem sem) (signalQSem sem) (runEntry e)
-  if roJobs o <= 1 then mapM runEntry entries else mapConcurrently one entries
+  if roJobs o <= 1 then mapM runEntry entries else inParallel (roJobs o) runEntry entries
   where
     runEntry = \case
       Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known i) 0)
@@ -153,7 +151,8 @@ runCorpus o corpus = do
         Nothing -> do
           t0 <- getMonotonicTime
           -- whatever goes wrong while running one case ends only that case
-          outcome <- either (\e -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> trySync (runOne o c)
+          -- the outcome decided here, in the worker (not later, by the report)
+          outcome <- either (\e -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> trySync (runOne o c >>= evaluate)
           t1 <- getMonotonicTime
           let k = known (caseId c)
               outcome' = if k then knownFailure outcome else outcome
