@@ -55,7 +55,7 @@ import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.), (.|.))
 import Data.Char (isDigit, isSpace, toUpper)
 import Control.Monad (forM)
 import Control.Monad.ST (runST)
-import Data.Containers.ListUtils (nubOrd)
+import qualified Data.IntSet as IS
 import GHC.Exts (isTrue#, reallyUnsafePtrEquality#)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
@@ -447,7 +447,17 @@ cellSlots cells0 = runST $ do
     pure j
   CellSlots mask <$> U.freeze keysM <*> V.freeze cellsM <*> pure (U.fromList used)
   where
-    cells = [c | c <- nubOrd cells0, let CellKey k _ = cellKey c, k /= noKey]
+    -- the first of equal cells (equal keys); not 'nubOrd' on cells, whose
+    -- specialisation here made GHC 9.0.2 build a program that crashes
+    -- (segmentation fault in `stref engine`)
+    cells = go IS.empty cells0
+      where
+        go _ [] = []
+        go seen (c : rest)
+          | k == noKey || k `IS.member` seen = go seen rest
+          | otherwise = c : go (IS.insert k seen) rest
+          where
+            CellKey k _ = cellKey c
     size = until (>= 2 * length cells) (* 2) 1
     mask = size - 1
 
