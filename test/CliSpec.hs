@@ -92,6 +92,33 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` ("saturate" `isInfixOf`)
 
+  describe "an IEC dialect (--dialect tecomat)" $ do
+    it "runs a program over cycles and prints its variables: the counter counts cycles (TC-POU-15), TON's ET reads the clock (TC-FB-27)" $ do
+      (code, out, _) <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--calls", "4", "--set", "MAIN.start=TRUE"]
+      code `shouldBe` ExitSuccess
+      lines out `shouldSatisfy` (\ls -> all (`elem` ls) ["  MAIN.cnt = 4", "  MAIN.t.Q = TRUE", "  MAIN.t.ET = T#20ms"])
+      out `shouldSatisfy` ("cycles run: 4" `isInfixOf`)
+    it "prints the same as JSON" $ do
+      (code, out, _) <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--calls", "2", "--format", "json"]
+      code `shouldBe` ExitSuccess
+      (decode (BL.pack out) >>= field ["vars", "MAIN.cnt"]) `shouldBe` Just (Number 2)
+    it "rejects a type mismatch with file, line, column and kind, exit 1 (TC-CONV-3)" $ do
+      (code, _, err) <- stref ["check", "--dialect", "tecomat", fixture "tecomat-mismatch.st"]
+      code `shouldBe` ExitFailure 1
+      err `shouldSatisfy` ("tecomat-mismatch.st:3:6: error:" `isInfixOf`)
+      err `shouldSatisfy` ("[type-mismatch]" `isInfixOf`)
+    it "accepts the same file under implicit-conversions=iec-widening" $ do
+      (code, _, _) <- stref ["check", "--dialect", "tecomat", "--policy", "implicit-conversions=iec-widening", fixture "tecomat-mismatch.st"]
+      code `shouldBe` ExitSuccess
+    it "evaluates a snippet as the body of PROGRAM MAIN, over cycles" $ do
+      (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--calls", "2", "VAR x : SINT := 126; END_VAR x := x + 1;"]
+      code `shouldBe` ExitSuccess
+      lines out `shouldContain` ["  MAIN.x = -128"]
+    it "names an unknown dialect with the known ones, exit 2" $ do
+      (code, _, err) <- stref ["run", "--dialect", "codesys", fixture "tecomat-counter.st"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` ("tecomat" `isInfixOf`)
+
   describe "run" $ do
     it "saturates INT addition and reports it as JSON" $ do
       (code, out, _) <- stref ["run", fixture "sat.st", "--set", "%M0010=15000", "--set", "%M0011=25000", "--format", "json"]

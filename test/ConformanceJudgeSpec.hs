@@ -62,11 +62,11 @@ spec = describe "Conformance judging" $ do
       judge ex (AnswerRejected (Just 5) Nothing "m") `shouldBe` Pass
     it "a runtime error compares code, line and complements" $ do
       let ex = emptyExpect {exError = Just (ErrCode 2020 (Just 10) Nothing)}
-          err l = AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport 2020 (Just l) (Just (0, 0, 0)))}
+          err l = AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport (Just 2020) Nothing (Just l) (Just (0, 0, 0)))}
       judge ex (err 10) `shouldBe` Pass
       judge ex (err 11) `shouldBe` Fail (Difference "error.line" "10" "11")
     it "error: none fails when the engine reports an error" $
-      judge emptyExpect {exError = Just ErrNone} (AnswerRun VerdictOk emptyObservation {obError = Just (ErrorReport 2015 (Just 3) Nothing)})
+      judge emptyExpect {exError = Just ErrNone} (AnswerRun VerdictOk emptyObservation {obError = Just (ErrorReport (Just 2015) Nothing (Just 3) Nothing)})
         `shouldBe` Fail (Difference "error" "none" "error 2015 at line 3")
     it "outputs are compared by name" $
       judge emptyExpect {exOutputs = M.fromList [(2, True)]} (AnswerRun VerdictOk emptyObservation {obOutputs = M.fromList [("OUTPUT2", False)]})

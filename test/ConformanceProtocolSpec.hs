@@ -31,7 +31,7 @@ spec = describe "Conformance protocol stref-engine/1" $ do
     decode "{\"verdict\": \"ok\", \"operands\": {\"%M0012\": 32767, \"%M0013.0\": true}, \"outputs\": {\"OUTPUT1\": true}, \"error\": null}"
       `shouldBe` Just (AnswerRun VerdictOk emptyObservation {obOperands = M.fromList [("%M0012", SNumber 32767), ("%M0013.0", SBool True)], obOutputs = M.fromList [("OUTPUT1", True)]})
     decode "{\"verdict\": \"runtime-error\", \"error\": {\"code\": 2020, \"line\": 10, \"comp\": [0, 0, 0]}, \"operands\": {}}"
-      `shouldBe` Just (AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport 2020 (Just 10) (Just (0, 0, 0)))})
+      `shouldBe` Just (AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport (Just 2020) Nothing (Just 10) (Just (0, 0, 0)))})
     decode "{\"verdict\": \"rejected\", \"line\": 5, \"message\": \"Variable X was not declared.\"}"
       `shouldBe` Just (AnswerRejected (Just 5) Nothing "Variable X was not declared.")
     decode "{\"verdict\": \"unsupported\", \"reason\": \"INTERNAL_OVERFLOW\"}"

@@ -20,7 +20,7 @@ import qualified Data.Text as T
 import Stref.Conformance.Case
 import Stref.Conformance.Corpus
 import Stref.Conformance.Runner
-import Stref.Policy (Policies, mastertoolXE, setPolicy)
+import Stref.Policy (Policies, PolicyInfo (..), mastertoolXE, policyTable, setPolicy, tecomat)
 import Test.Hspec
 
 -- | Every alternative that differs from the MasterTool XE preset.
@@ -73,11 +73,19 @@ quickCases ps corpus = corpus {corpusEntries = filter keep (corpusEntries corpus
 failures :: [CaseResult] -> [(Text, Outcome)]
 failures rs = [(resId r, resOutcome r) | r <- rs, resOutcome r /= Pass]
 
+-- | Every alternative of every enumerated policy that differs from the
+-- preset's choice.
+alternativesFrom :: Policies -> [(Text, Text)]
+alternativesFrom p = [(piName i, a) | i <- policyTable, a <- piAlternatives i, a /= piGet i p]
+
 spec :: Spec
 spec = do
-  corpus <- runIO (loadCorpus ["conformance"])
+  corpus <- runIO (loadCorpus ["conformance/mastertool-xe"])
+  tecomatCorpus <- runIO (loadCorpus ["conformance/tecomat"])
   describe "the corpus under every policy alternative (reference, declared = run)" $
     mapM_ (sweep corpus) alternatives
+  describe "the tecomat corpus under every policy alternative (the preset with one choice changed)" $
+    mapM_ (sweepDialect tecomatCorpus) (alternativesFrom tecomat ++ [("identifier-length", "unlimited")])
   describe "an engine that wraps on overflow, judged under the preset" $
     it "fails exactly the cases whose overflow=wrap expectation differs from expect" $ do
       bin <- strefBinary
@@ -94,8 +102,13 @@ spec = do
     isFail = \case
       Fail _ -> True
       _ -> False
+    sweepDialect corpus alt@(k, v) = it (T.unpack (k <> "=" <> v)) $ do
+      let opts = defaultRunOptions {roOverrides = Just [alt], roJobs = 2, roTimeout = 120}
+      results <- runCorpus opts corpus
+      length results `shouldSatisfy` (>= 100)
+      failures results `shouldBe` []
     sweep corpus alt@(k, v) = it (T.unpack (k <> "=" <> v)) $ do
       let p = policiesWith alt
-          opts = defaultRunOptions {roEngine = Reference [alt], roPolicies = p, roJobs = 2, roTimeout = 60}
+          opts = defaultRunOptions {roEngine = Reference [alt], roPolicies = p, roOverrides = Nothing, roJobs = 2, roTimeout = 60}
       results <- runCorpus opts (quickCases [p] corpus)
       failures results `shouldBe` []

@@ -7,7 +7,7 @@ module CorpusSpec (spec) where
 
 import qualified Data.Set as S
 import qualified Data.Text as T
-import Conformance.Paths (engineScript)
+import Conformance.Paths (engineScript, strefBinary)
 import Stref.Conformance.Corpus
 import Stref.Conformance.Runner
 import Test.Hspec
@@ -30,6 +30,12 @@ spec = do
       sum (map S.size ids) `shouldBe` length (corpusEntries corpus)
       S.unions ids `shouldBe` S.fromList (map entryId (corpusEntries corpus))
       all (all isUnsupported) shards `shouldBe` True
+    it "passes the tecomat corpus through `stref engine`, one process per case (corpus-format 4.4)" $ do
+      bin <- strefBinary
+      tc <- loadCorpus ["conformance/tecomat"]
+      results <- runCorpus defaultRunOptions {roEngine = External (bin ++ " engine"), roJobs = 2, roTimeout = 120} tc
+      length results `shouldSatisfy` (>= 100)
+      [(resId r, resOutcome r) | r <- results, resOutcome r /= Pass] `shouldBe` []
     mapM_ caseExample (corpusEntries corpus)
   where
     caseExample entry = it (T.unpack (entryId entry)) $ case entry of

@@ -14,6 +14,8 @@ import qualified Data.Text as T
 import qualified Data.Text.IO as TIO
 import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
+import Cmd.Common (readSource)
+import Cmd.Iec (checkIec, dialectPolicies, isIecDialect)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Check (checkModule)
 import Stref.Checked (ModuleKind (..))
@@ -31,6 +33,7 @@ data Options = Options
   , optFormat :: Format
   , optKind :: ModuleKind
   , optPolicies :: [String]
+  , optDialect :: String
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -47,6 +50,7 @@ options =
     <*> option (eitherReader readFormat) (long "format" <> metavar "text|json|gcc" <> value FormatText <> help "How to print the errors (default text)")
     <*> option (eitherReader readKind) (long "module" <> metavar "P|F" <> value ProcedureModule <> help "Procedure (P, default) or function (F) module")
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. name-resolution=local-wins"))
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat")
   where
     readFormat = \case
       "text" -> Right FormatText
@@ -60,7 +64,15 @@ options =
     toUpperAscii c = if c >= 'a' && c <= 'z' then toEnum (fromEnum c - 32) else c
 
 run :: Options -> IO ExitCode
-run opts =
+run opts = case dialectPolicies (optDialect opts) (optPolicies opts) of
+  Right pol | isIecDialect pol -> do
+    src <- readSource (optFile opts)
+    either (\msg -> hPutStrLn stderr ("stref check: " <> T.unpack msg) >> pure (ExitFailure 2)) (checkIec pol (optFile opts)) src
+  Left msg -> hPutStrLn stderr ("stref check: " <> T.unpack msg) >> pure (ExitFailure 2)
+  _ -> runMasterTool opts
+
+runMasterTool :: Options -> IO ExitCode
+runMasterTool opts =
   case foldM applyPolicy mastertoolXE (optPolicies opts) of
     Left msg -> usage msg
     Right policies -> do

@@ -30,7 +30,7 @@ data Format = FormatText | FormatJson | FormatJunit
 data Opts = Opts
   { oPaths :: [FilePath]
   , oEngine :: Maybe String
-  , oPreset :: Text
+  , oPreset :: Maybe Text
   , oPolicies :: [(Text, Text)]
   , oJobs :: Int
   , oShard :: Maybe (Int, Int)
@@ -59,7 +59,7 @@ opts =
   Opts
     <$> many (strArgument (metavar "PATH..." <> help "Corpus directories or case files (default: conformance)"))
     <*> optional (strOption (long "engine" <> metavar "'CMD ARGS'" <> help "External engine: a shell command started once per case (request on stdin, answer on stdout)"))
-    <*> presetOption
+    <*> optional presetChoice
     <*> policyAssignmentOption
     <*> option positive (short 'j' <> long "jobs" <> metavar "N" <> value 1 <> showDefault <> help "Cases run in parallel")
     <*> optional (option shard (long "shard" <> metavar "I/N" <> help "Run only part I of N (1-based) of the cases, in id order"))
@@ -94,7 +94,7 @@ usage :: Text -> IO ExitCode
 usage msg = TIO.hPutStrLn stderr ("stref conformance: " <> msg) >> pure (ExitFailure 2)
 
 run :: Opts -> IO ExitCode
-run o = case resolvePolicies (oPreset o) (oPolicies o) of
+run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o) of
   Left e -> usage e
   Right policies -> do
     known <- maybe (pure (Right S.empty)) readKnownFailures (oKnown o)
@@ -115,6 +115,8 @@ run o = case resolvePolicies (oPreset o) (oPolicies o) of
                   defaultRunOptions
                     { roEngine = maybe (Reference []) External (oEngine o)
                     , roPolicies = policies
+                    -- without --preset, every case runs under its own dialect's preset
+                    , roOverrides = maybe (Just (oPolicies o)) (const Nothing) (oPreset o)
                     , roJobs = oJobs o
                     , roShard = oShard o
                     , roFilters = oFilters o

@@ -14,6 +14,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr)
 import Cmd.Common
+import Cmd.Iec (dialectPolicies, evalIec, isIecDialect)
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
 import Stref.Policy
@@ -25,6 +26,8 @@ data Options = Options
   { optSnippet :: String
   , optCompare :: Maybe String
   , optPolicies :: [String]
+  , optDialect :: String
+  , optCalls :: Int
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -41,6 +44,8 @@ options =
     <$> strArgument (metavar "SNIPPET" <> help "e.g. 'VAR I : INT; END_VAR I := 32767 + 1;' or '7 / 2' (write -- before a snippet that starts with -)")
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "Run under every alternative of POLICY and show the results side by side"))
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat (an IEC dialect runs the snippet as the body of PROGRAM MAIN)")
+    <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "IEC dialects: the number of scan cycles")
 
 -- | One run's observable outcome, as lines of (label, value).
 data Observed = Observed
@@ -68,7 +73,13 @@ observe full sr =
     dropProgram n = maybe n id (T.stripPrefix "EVAL." n)
 
 run :: Options -> IO ExitCode
-run o = case applyPolicies (optPolicies o) of
+run o = case dialectPolicies (optDialect o) (optPolicies o) of
+  Left msg -> usageError "eval" msg
+  Right pol | isIecDialect pol -> evalIec pol (T.pack (optSnippet o)) (optCalls o)
+  Right _ -> runMasterTool o
+
+runMasterTool :: Options -> IO ExitCode
+runMasterTool o = case applyPolicies (optPolicies o) of
   Left msg -> usageError "eval" msg
   Right pol -> case optCompare o of
     Nothing -> case evalSnippet pol snippet of

@@ -2,6 +2,7 @@
 module Cmd.PolicyOptions
   ( policyAssignmentOption
   , presetOption
+  , presetChoice
   , resolvePolicies
   ) where
 
@@ -28,6 +29,14 @@ presetOption =
   T.pack
     <$> strOption
       (long "preset" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help ("Dialect preset the policies start from: " <> T.unpack (T.intercalate ", " (map fst presets))))
+
+-- | @--preset NAME@ without a default: absent, each case or file uses its
+-- own dialect's preset.
+presetChoice :: Parser Text
+presetChoice =
+  T.pack
+    <$> strOption
+      (long "preset" <> metavar "NAME" <> help ("Run every case under this preset (" <> T.unpack (T.intercalate ", " (map fst presets)) <> "); by default each case runs under its dialect's preset"))
 
 -- | The preset with the assignments applied in order.
 resolvePolicies :: Text -> [(Text, Text)] -> Either Text Policies

@@ -22,6 +22,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr, stdout)
 import Cmd.Common
+import Cmd.Iec (RunIecOptions (..), dialectPolicies, isIecDialect, runIec)
 import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics
 import Stref.Execution
@@ -41,6 +42,9 @@ data Options = Options
   , optChfOut :: [String]
   , optPolicies :: [String]
   , optFormat :: String
+  , optDialect :: String
+  , optCycle :: String
+  , optProgram :: Maybe String
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -68,6 +72,9 @@ options =
     <*> many (strOption (long "out" <> metavar "ARG" <> help "A CHF output parameter, in order (F modules)"))
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
     <*> strOption (long "format" <> metavar "text|json" <> value "text" <> showDefault <> help "Output format")
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat (an IEC dialect: --set takes PATH=VALUE, e.g. MAIN.start=TRUE)")
+    <*> strOption (long "cycle" <> metavar "TIME" <> value "T#10ms" <> showDefault <> help "IEC dialects: the task interval (the virtual clock advances by it before each cycle)")
+    <*> optional (strOption (long "program" <> metavar "NAME" <> help "IEC dialects: the PROGRAM to run (default: the configuration's, or the file's only one)"))
 
 -- | What a PLC file describes.
 data PlcFile = PlcFile
@@ -78,7 +85,23 @@ data PlcFile = PlcFile
   }
 
 run :: Options -> IO ExitCode
-run o = do
+run o = case dialectPolicies (optDialect o) (optPolicies o) of
+  Left msg -> usageError "run" msg
+  Right pol | isIecDialect pol -> do
+    srcE <- readSource (optFile o)
+    case srcE of
+      Left msg -> usageError "run" msg
+      Right src -> case traverse splitSet (optSets o) of
+        Left msg -> usageError "run" msg
+        Right sets -> runIec pol (optFile o) src (RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json"))
+  Right _ -> runMasterTool o
+  where
+    splitSet kv = case T.breakOn "=" (T.pack kv) of
+      (k, v) | not (T.null v) -> Right (T.strip k, T.strip (T.drop 1 v))
+      _ -> Left ("--set takes PATH=VALUE, e.g. MAIN.start=TRUE, not '" <> T.pack kv <> "'")
+
+runMasterTool :: Options -> IO ExitCode
+runMasterTool o = do
   setup <- pure $ do
     pol <- applyPolicies (optPolicies o)
     kind <- case optModule o of

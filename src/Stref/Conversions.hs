@@ -91,6 +91,7 @@ implicitConversion policy f t = case policy of
       `elem` ( mastertoolImplicit
                  ++ [(USINT, REAL), (BYTE, INT), (BYTE, DINT), (BYTE, REAL), (WORD, DINT), (WORD, REAL), (USINT, WORD), (USINT, DWORD), (BYTE, USINT), (USINT, BYTE)]
              )
+  ImplicitNone -> False
 
 -- | The run-time meaning of a conversion (Table 4-6 rows C01-C53; identity
 -- when the types agree), under the @real-to-int@ and @narrow-int@ policies.

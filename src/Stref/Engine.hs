@@ -27,6 +27,7 @@ import Stref.Checked (ModuleKind (..))
 import Stref.Conformance.Protocol
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
+import Stref.IEC.Engine (iecEngine)
 import Stref.Operands
 import Stref.Policy
 import Stref.Syntax (Pos (..))
@@ -51,6 +52,13 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
     then Left ("protocol '" <> rqProtocol rq <> "' is not spoken here; this engine speaks " <> protocolVersion)
     else Right ()
   pol <- requestPolicies overrides rq
+  case pModel pol of
+    IecController -> Right (iecEngine pol rq)
+    MasterToolController -> mastertoolEngine pol rq
+
+-- | The MasterTool XE controller's answer (a module called N times).
+mastertoolEngine :: Policies -> Request -> Either Text Answer
+mastertoolEngine pol rq = do
   kind <- case T.toUpper (rqModule rq) of
     "P" -> Right ProcedureModule
     "F" -> Right FunctionModule
@@ -96,7 +104,7 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
             Just v -> Just v
             Nothing -> M.lookup (T.map toUpper name) upperNames
           upperNames = M.fromListWith (\_ first -> first) [(T.map toUpper n, v) | (n, v) <- crVars res]
-          err = fmap (\(RuntimeError c l (a, b, d)) -> ErrorReport c (Just l) (Just (a, b, d))) (crError res)
+          err = fmap (\(RuntimeError c l (a, b, d)) -> ErrorReport (Just c) Nothing (Just l) (Just (a, b, d))) (crError res)
           ob = Observation operands vars (M.fromList [("OUTPUT1", o1), ("OUTPUT2", o2), ("OUTPUT3", o3)]) err
        in AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob
 

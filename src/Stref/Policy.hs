@@ -25,7 +25,17 @@ module Stref.Policy
   , IdentifierLength (..)
   , NestedComments (..)
   , ElsifKeyword (..)
+  , AfterError (..)
+  , FTrigInitial (..)
+  , DownCounterQ (..)
+  , TimerQ (..)
+  , InsertPosition (..)
+  , StringBounds (..)
+  , StringOverflow (..)
+  , SubrangeCheck (..)
+  , Model (..)
   , mastertoolXE
+  , tecomat
   , presets
   , lookupPreset
   , PolicyInfo (..)
@@ -78,7 +88,7 @@ data NarrowInt = NarrowWrap | NarrowSaturate
   deriving (Eq, Ord, Show, Enum, Bounded)
 
 -- | Which conversions the checker inserts on its own.
-data ImplicitConversions = ImplicitMastertool | ImplicitIecWidening | ImplicitCodesys
+data ImplicitConversions = ImplicitMastertool | ImplicitIecWidening | ImplicitCodesys | ImplicitNone
   deriving (Eq, Ord, Show, Enum, Bounded)
 
 -- | A local declared with a global's name.
@@ -115,8 +125,50 @@ data NestedComments = NoNesting | Nesting
 data ElsifKeyword = ElsifOnly | ElsifAndElseif
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | After a runtime error in a scan cycle of an IEC program: does the
+-- controller stop, or does the next cycle run?
+data AfterError = StopController | ContinueNextCycle
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | The initial value of F_TRIG's memory M (TC-FB-15: Tecomat TRUE; IEC FALSE).
+data FTrigInitial = FTrigTrue | FTrigFalse
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | The Q of CTD and the QD of CTUD: CV = 0 (TC-FB-19) or CV <= 0 (IEC).
+data DownCounterQ = EqualZero | AtMostZero
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | When a TON or TP sees ET reach PT: Q in the same call, or in the next.
+data TimerQ = SameCycle | NextCycle
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | INSERT(IN1, IN2, P): IN2 starts at position P (TC-STR-13) or after the
+-- P-th character (IEC).
+data InsertPosition = InsertAt | InsertAfter
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | String positions and lengths beyond the string: cut to it, or an error.
+data StringBounds = StringClamp | StringBoundsError
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | A string longer than the capacity of its destination.
+data StringOverflow = StringTruncate | StringOverflowError
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | A value outside a subrange on a store.
+data SubrangeCheck = SubrangeError | SubrangeUnchecked
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | The controller a dialect runs on: MasterTool's (operand tables, CHF
+-- parameters, per-call initialisation, the diagnostic band) or IEC
+-- 61131-3's (program instances, tasks, a clock). Part of the preset, not a
+-- choice of the command line.
+data Model = MasterToolController | IecController
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 data Policies = Policies
-  { pOverflow :: !Overflow
+  { pModel :: !Model
+  , pOverflow :: !Overflow
   , pArithWidth :: !ArithWidth
   , pDivZero :: !DivZero
   , pRealDivZero :: !RealDivZero
@@ -141,6 +193,16 @@ data Policies = Policies
   , pStepBudget :: !Int
   -- ^ MT-EXEC-7: the execution-time limit, as a deterministic count of
   -- executed statements and loop tests; exceeding it is runtime error 2030
+  , pAfterError :: !AfterError
+  , pFTrigInitial :: !FTrigInitial
+  , pDownCounterQ :: !DownCounterQ
+  , pTimerQ :: !TimerQ
+  , pInsertPosition :: !InsertPosition
+  , pStringBounds :: !StringBounds
+  , pStringOverflow :: !StringOverflow
+  , pStringLength :: !Int
+  -- ^ the capacity of a STRING declared without one
+  , pSubrange :: !SubrangeCheck
   }
   deriving (Eq, Show)
 
@@ -148,7 +210,8 @@ data Policies = Policies
 mastertoolXE :: Policies
 mastertoolXE =
   Policies
-    { pOverflow = Saturate -- MT-OP-6, MT-OP-7
+    { pModel = MasterToolController
+    , pOverflow = Saturate -- MT-OP-6, MT-OP-7
     , pArithWidth = OperandType -- MT-OP-4
     , pDivZero = DivZeroError -- MT-OP-9
     , pRealDivZero = RealDivZeroError -- A6
@@ -169,12 +232,60 @@ mastertoolXE =
     , pElsifKeyword = ElsifAndElseif -- A1
     , pErrorLineBeforeStart = 0 -- A2
     , pStepBudget = 10000000 -- MT-EXEC-7: 10^7 steps, far above any terminating program of realistic size
+    -- the IEC policies: MasterTool has no FBs, strings or subranges; these
+    -- are the IEC readings, never observable in a MasterTool program
+    , pAfterError = ContinueNextCycle -- MT-DIAG-2: the controller keeps scanning
+    , pFTrigInitial = FTrigFalse
+    , pDownCounterQ = AtMostZero
+    , pTimerQ = SameCycle
+    , pInsertPosition = InsertAfter
+    , pStringBounds = StringClamp
+    , pStringOverflow = StringTruncate
+    , pStringLength = 80
+    , pSubrange = SubrangeError
+    }
+
+-- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
+tecomat :: Policies
+tecomat =
+  Policies
+    { pModel = IecController
+    , pOverflow = Wrap -- TC-OP-20
+    , pArithWidth = OperandType -- TC-CONV-2
+    , pDivZero = DivZeroError -- TC-OP-22
+    , pRealDivZero = RealDivZeroIeee -- TC-TYPE-8, TC-OP-26
+    , pRealOverflow = RealOverflowIeee -- TC-TYPE-8, TC-OP-26
+    , pModZero = ModZeroZero -- TC-OP-24
+    , pModSign = ModSignDividend -- TC-OP-21, TC-OP-23
+    , pRealToInt = RoundEvenSaturate -- TC-CONV-12
+    , pNarrowInt = NarrowWrap -- TC-CONV-13
+    , pImplicitConversions = ImplicitNone -- TC-CONV-1, TC-CONV-3
+    , pNameResolution = LocalWins -- TC-VAR-33
+    , pForBounds = ForEveryIteration -- TC-STMT-26
+    , pForAtTypeMax = FollowOverflowPolicy -- TC-STMT-31
+    , pShortCircuit = Eager -- TC-OP-6
+    , pLifetime = Retained -- TC-VAR-7, TC-POU-15
+    , pIndexOutOfRange = IndexError -- TC-ERR-3
+    , pIdentifierLength = Significant 64 -- TC-LEX-16, TC-LEX-17
+    , pNestedComments = NoNesting -- TC-LEX-8
+    , pElsifKeyword = ElsifOnly -- TC-STMT-9
+    , pErrorLineBeforeStart = 0
+    , pStepBudget = 1000000 -- TC-ERR-1: the cycle error, as a deterministic count of steps per cycle
+    , pAfterError = StopController -- TC-STMT-35
+    , pFTrigInitial = FTrigTrue -- TC-FB-15
+    , pDownCounterQ = EqualZero -- TC-FB-19
+    , pTimerQ = SameCycle -- TC-FB-27
+    , pInsertPosition = InsertAt -- TC-STR-13
+    , pStringBounds = StringClamp -- TC-STR-15..17
+    , pStringOverflow = StringTruncate -- TC-TYPE-27, TC-STR-18
+    , pStringLength = 255 -- TC-TYPE-26
+    , pSubrange = SubrangeError -- TC-TYPE-33
     }
 
 -- | Named presets. Only MasterTool XE is a complete dialect today; the next
 -- dialects (tecomat, nexto) become entries here, not forks of the code.
 presets :: [(Text, Policies)]
-presets = [("mastertool-xe", mastertoolXE)]
+presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat)]
 
 lookupPreset :: Text -> Maybe Policies
 lookupPreset n = lookup n presets
@@ -215,7 +326,7 @@ policyTable =
   , enumPolicy "mod-sign" ["dividend", "euclidean"] pModSign (\v p -> p {pModSign = v})
   , enumPolicy "real-to-int" ["truncate-saturate", "round-even-saturate", "round-even-wrap"] pRealToInt (\v p -> p {pRealToInt = v})
   , enumPolicy "narrow-int" ["wrap", "saturate"] pNarrowInt (\v p -> p {pNarrowInt = v})
-  , enumPolicy "implicit-conversions" ["mastertool", "iec-widening", "codesys"] pImplicitConversions (\v p -> p {pImplicitConversions = v})
+  , enumPolicy "implicit-conversions" ["mastertool", "iec-widening", "codesys", "none"] pImplicitConversions (\v p -> p {pImplicitConversions = v})
   , enumPolicy "name-resolution" ["global-wins", "local-wins"] pNameResolution (\v p -> p {pNameResolution = v})
   , enumPolicy "for-bounds" ["once", "every-iteration"] pForBounds (\v p -> p {pForBounds = v})
   , enumPolicy "for-at-type-max" ["stop-at-end", "follow-overflow-policy"] pForAtTypeMax (\v p -> p {pForAtTypeMax = v})
@@ -238,6 +349,15 @@ policyTable =
   , enumPolicy "elsif-keyword" ["ELSIF", "ELSIF+ELSEIF"] pElsifKeyword (\v p -> p {pElsifKeyword = v})
   , numPolicy "error-line-before-start" pErrorLineBeforeStart (\v p -> p {pErrorLineBeforeStart = v})
   , numPolicy "step-budget" pStepBudget (\v p -> p {pStepBudget = max 1 v})
+  , enumPolicy "after-error" ["stop", "continue"] pAfterError (\v p -> p {pAfterError = v})
+  , enumPolicy "f-trig-initial" ["true", "false"] pFTrigInitial (\v p -> p {pFTrigInitial = v})
+  , enumPolicy "down-counter-q" ["equal-zero", "at-most-zero"] pDownCounterQ (\v p -> p {pDownCounterQ = v})
+  , enumPolicy "timer-q" ["same-cycle", "next-cycle"] pTimerQ (\v p -> p {pTimerQ = v})
+  , enumPolicy "insert-position" ["at", "after"] pInsertPosition (\v p -> p {pInsertPosition = v})
+  , enumPolicy "string-bounds" ["clamp", "error"] pStringBounds (\v p -> p {pStringBounds = v})
+  , enumPolicy "string-overflow" ["truncate", "error"] pStringOverflow (\v p -> p {pStringOverflow = v})
+  , numPolicy "string-length" pStringLength (\v p -> p {pStringLength = max 1 v})
+  , enumPolicy "subrange" ["error", "unchecked"] pSubrange (\v p -> p {pSubrange = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

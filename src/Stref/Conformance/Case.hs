@@ -19,6 +19,8 @@ module Stref.Conformance.Case
   , ExpError (..)
   , ExpReject (..)
   , CaseOrigin (..)
+  , IecSetup (..)
+  , iecScalar
   , parseCase
   , effectiveExpect
   , expectedVerdict
@@ -48,7 +50,7 @@ import qualified Data.Yaml as Y
 import Stref.Checked (ModuleKind (..))
 import Stref.Conformance.Protocol (Scalar (..), bitsText, parseBits, scalarFromFloat, scientificToFloat)
 import Stref.Operands
-import Stref.Policy (Policies, PolicyInfo (..), lookupPolicy, policyTable)
+import Stref.Policy (Model (..), Policies (..), PolicyInfo (..), lookupPolicy, lookupPreset, policyTable)
 import Stref.Values (realBits)
 
 -- | @status@: where the expectation comes from.
@@ -62,6 +64,10 @@ data ExpValue
   | EReal Float -- ^ a decimal, rounded to binary32 (nearest, ties to even)
   | EBits Word32
   | ENaN
+  | EDecimal Scientific -- ^ IEC dialects: a decimal, rounded once to the variable's type (§4.2)
+  | EText Text -- ^ IEC dialects: an ST literal, compared by value (§4.2)
+  | EList [ExpValue] -- ^ a whole array
+  | EMap (Map Text ExpValue) -- ^ a whole structure
   deriving (Show)
 
 instance Eq ExpValue where
@@ -70,13 +76,20 @@ instance Eq ExpValue where
   EReal a == EReal b = realBits a == realBits b
   EBits a == EBits b = a == b
   ENaN == ENaN = True
+  EDecimal a == EDecimal b = a == b
+  EText a == EText b = a == b
+  EList a == EList b = a == b
+  EMap a == EMap b = a == b
   _ == _ = False
 
 data ExpVerdict = ExpOk | ExpRejected | ExpRuntimeError
   deriving (Eq, Show)
 
 -- | @error: none@, or a code with optional line and complements.
-data ExpError = ErrNone | ErrCode Int (Maybe Int) (Maybe (Int, Int, Int))
+data ExpError
+  = ErrNone
+  | ErrCode Int (Maybe Int) (Maybe (Int, Int, Int))
+  | ErrKind Text (Maybe Int) -- ^ IEC dialects: the kind of §4.3 and the line
   deriving (Eq, Show)
 
 -- | @reject: {line, kind}@, both optional.
@@ -132,6 +145,18 @@ data Case = Case
   , caseCalls :: [CallSetup]
   , caseExpect :: Expect
   , caseExpectIf :: [Conditional]
+  , caseIec :: Maybe IecSetup -- ^ the IEC dialects' keys (corpus-format §4.1)
+  }
+  deriving (Eq, Show)
+
+-- | What an IEC case sets up: the program, the task interval, the located
+-- variables before the first cycle and the variables written before each
+-- cycle (one entry per cycle).
+data IecSetup = IecSetup
+  { iecProgram :: Maybe Text
+  , iecCycle :: Text -- ^ a TIME literal, @T#10ms@ unless stated
+  , iecInit :: [(Text, ExpValue)]
+  , iecCalls :: [[(Text, ExpValue)]]
   }
   deriving (Eq, Show)
 
@@ -167,6 +192,7 @@ mergeExpect a b =
             (Just e, _) -> Just e
             (Nothing, Just ExpRejected) -> Nothing
             (Nothing, Just ExpOk) | Just ErrCode {} <- exError a -> Nothing
+            (Nothing, Just ExpOk) | Just ErrKind {} <- exError a -> Nothing
             _ -> exError a
         , exReject = case (exReject b, v) of
             (Just r, _) -> Just r
@@ -180,6 +206,7 @@ mergeExpect a b =
       Nothing
         | Just _ <- exReject b -> Just ExpRejected
         | Just ErrCode {} <- exError b -> Just ExpRuntimeError
+        | Just ErrKind {} <- exError b -> Just ExpRuntimeError
         | Just ErrNone <- exError b -> Just ExpOk
         | otherwise -> Nothing
 
@@ -191,6 +218,7 @@ expectedVerdict e = case exVerdict e of
   Nothing
     | Just _ <- exReject e -> ExpRejected
     | Just ErrCode {} <- exError e -> ExpRuntimeError
+    | Just ErrKind {} <- exError e -> ExpRuntimeError
     | otherwise -> ExpOk
 
 operandIsReal :: Operand -> Bool
@@ -224,6 +252,20 @@ expValueScalar op = \case
   EReal f -> scalarFromFloat f
   EBits w -> SBits w
   ENaN -> SBits 0x7FC00000
+  v -> iecScalar v
+
+-- | How an IEC case's value goes into a request (§4.2, §4.4).
+iecScalar :: ExpValue -> Scalar
+iecScalar = \case
+  EInt n -> SNumber (fromInteger n)
+  EBool b -> SBool b
+  EReal f -> scalarFromFloat f
+  EBits w -> SBits w
+  ENaN -> SNaN
+  EDecimal d -> SNumber d
+  EText t -> SText t
+  EList xs -> SList (map iecScalar xs)
+  EMap m -> SMap (M.map iecScalar m)
 
 renderExpValue :: ExpValue -> Text
 renderExpValue = \case
@@ -232,6 +274,10 @@ renderExpValue = \case
   EReal f -> T.pack (show f)
   EBits w -> "{bits: " <> bitsText w <> "}"
   ENaN -> "nan"
+  EDecimal d -> T.pack (show d)
+  EText t -> t
+  EList xs -> "[" <> T.intercalate ", " (map renderExpValue xs) <> "]"
+  EMap m -> "{" <> T.intercalate ", " [k <> ": " <> renderExpValue v | (k, v) <- M.toList m] <> "}"
 
 -- * Reading the file
 
@@ -281,7 +327,11 @@ parseCase file origin knownRule src = do
         "invalid YAML in the metadata: " <> T.pack problem <> (if null ctx then "" else " (" <> T.pack ctx <> ")")
       e -> "invalid YAML in the metadata: " <> T.pack (Y.prettyPrintParseException e)
     caseFromYaml :: Value -> V Case
-    caseFromYaml v = do
+    caseFromYaml v
+      | iecDialect = iecCaseFromYaml v
+      | otherwise = mastertoolCaseFromYaml v
+    iecDialect = maybe False ((== IecController) . pModel) (lookupPreset (coDialect origin))
+    mastertoolCaseFromYaml v = do
       o <- objectWith [] topKeys v
       description <- required [] o "description" >>= text ["description"]
       rules <- required [] o "rules" >>= textList ["rules"]
@@ -320,7 +370,107 @@ parseCase file origin knownRule src = do
           , caseCalls = calls
           , caseExpect = expect
           , caseExpectIf = conds
+          , caseIec = Nothing
           }
+
+    -- corpus-format §4.1: the IEC dialects' cases
+    iecCaseFromYaml v = do
+      o <- objectWith [] iecTopKeys v
+      description <- required [] o "description" >>= text ["description"]
+      rules <- required [] o "rules" >>= textList ["rules"]
+      when (null rules) (failAt ["rules"] "a case must cite at least one rule")
+      forM_' rules $ \r -> unless (knownRule r) (failAt ["rules"] ("rule " <> r <> " is not in the dialect's RULES index"))
+      features <- optional o "features" (textList ["features"]) []
+      status <- optional o "status" (statusOf ["status"]) Normative
+      program <- optional o "program" (fmap Just . text ["program"]) Nothing
+      cycleText <- optional o "cycle" (text ["cycle"]) "T#10ms"
+      initial <- optional o "plc" (\x -> objectWith ["plc"] ["init"] x >>= \po -> optional po "init" (iecValues ["plc", "init"]) []) []
+      calls <- optional o "calls" (iecCallsOf ["calls"]) [[]]
+      expect <- optional o "expect" (iecExpectOf ["expect"] iecExpectKeys) emptyExpect
+      conds <- optional o "expect-if" (iecConditionals ["expect-if"]) []
+      checkVerdict ["expect"] expect
+      forM_' (zip [0 :: Int ..] conds) $ \(i, c) -> do
+        checkVerdict ["expect-if", idx i] (cdExpect c)
+        case mergeExpect expect (cdExpect c) of
+          Expect {exVerdict = Just ExpRuntimeError, exError = Just ErrNone} ->
+            failAt ["expect-if", idx i] "verdict runtime-error, but the entry states no error and expect says error: none; state error: {kind: ...}"
+          _ -> pure ()
+      pure
+        Case
+          { caseId = coId origin
+          , caseFile = file
+          , caseDialect = coDialect origin
+          , caseArea = coArea origin
+          , caseSource = src
+          , caseDescription = description
+          , caseRules = rules
+          , caseFeatures = features
+          , caseStatus = status
+          , caseModule = ProcedureModule
+          , casePlc = PlcSetup defaultPlcConfig [] Nothing
+          , caseCalls = [CallSetup (True, True, True) [] | _ <- calls]
+          , caseExpect = expect
+          , caseExpectIf = conds
+          , caseIec = Just (IecSetup program cycleText initial calls)
+          }
+    iecTopKeys = ["description", "rules", "features", "status", "program", "cycle", "plc", "calls", "expect", "expect-if"]
+    iecExpectKeys = ["verdict", "vars", "operands", "error", "reject"]
+    iecCallsOf p = \case
+      Number n -> do
+        k <- integerIn p 1 1000000 n
+        pure (replicate (fromInteger k) [])
+      Array xs
+        | V.null xs -> failAt p "calls must list at least one cycle"
+        | otherwise -> fmap concat . forM (zip [0 :: Int ..] (V.toList xs)) $ \(i, x) -> case x of
+            Number n -> do
+              k <- integerIn (p ++ [idx i]) 1 1000000 n
+              pure (replicate (fromInteger k) [])
+            _ -> do
+              co <- objectWith (p ++ [idx i]) ["set"] x
+              set <- optional co "set" (iecValues (p ++ [idx i, "set"])) []
+              pure [set]
+      _ -> failAt p "calls must be a number of cycles or a list of numbers and {set: {...}}"
+    iecValues p v = do
+      o <- object' p v
+      forM (KM.toList o) (\(k, x) -> (K.toText k,) <$> iecValue (p ++ [K.toText k]) x)
+    iecValue p = \case
+      Bool b -> pure (EBool b)
+      Number n -> case floatingOrInteger n :: Either Double Integer of
+        Right i | base10Exponent n <= 40 -> pure (EInt i)
+        _ -> pure (EDecimal n)
+      String t
+        | T.toLower t `elem` ["nan", ".nan"] -> pure ENaN
+        | otherwise -> pure (EText t)
+      Array xs -> EList <$> forM (zip [0 :: Int ..] (V.toList xs)) (\(i, x) -> iecValue (p ++ [idx i]) x)
+      Object o
+        | [(k, String t)] <- KM.toList o, k == "bits" -> maybe (failAt p ("bits must be a hexadecimal pattern like \"0x7F7FFFFF\", not '" <> t <> "'")) (pure . EBits) (parseBits t)
+        | otherwise -> EMap . M.fromList <$> forM (KM.toList o) (\(k, x) -> (K.toText k,) <$> iecValue (p ++ [K.toText k]) x)
+      _ -> failAt p "a value is a number, true/false, an ST literal in a string, a list or a mapping"
+    iecExpectOf p keys v = do
+      o <- objectWith p keys v
+      verdict <- optional o "verdict" (fmap Just . verdictOf (p ++ ["verdict"])) Nothing
+      vars <- optional o "vars" (fmap M.fromList . iecValues (p ++ ["vars"])) M.empty
+      operands <- optional o "operands" (fmap M.fromList . iecValues (p ++ ["operands"])) M.empty
+      err <- optional o "error" (fmap Just . iecErrorOf (p ++ ["error"])) Nothing
+      rej <- optional o "reject" (fmap Just . rejectOf (p ++ ["reject"])) Nothing
+      -- located variables are observed like variables, by their address
+      pure (Expect verdict M.empty (M.union vars operands) M.empty err rej)
+    iecErrorOf p = \case
+      String "none" -> pure ErrNone
+      v -> do
+        o <- objectWith p ["kind", "line"] v
+        k <- required p o "kind" >>= text (p ++ ["kind"])
+        unless (k `elem` runtimeErrorKinds) (failAt (p ++ ["kind"]) ("'" <> k <> "' is not a runtime error kind: " <> T.intercalate ", " runtimeErrorKinds))
+        line <- optional o "line" (fmap (Just . fromInteger) . (integerIn (p ++ ["line"]) 1 1000000 <=< number (p ++ ["line"]))) Nothing
+        pure (ErrKind k line)
+    iecConditionals p = \case
+      Array xs -> forM (zip [0 :: Int ..] (V.toList xs)) $ \(i, x) -> do
+        let q = p ++ [idx i]
+        o <- objectWith q ("when" : iecExpectKeys) x
+        whenV <- required q o "when" >>= whenOf (q ++ ["when"])
+        e <- iecExpectOf q iecExpectKeys (Object (KM.delete "when" o))
+        pure (Conditional whenV e)
+      _ -> failAt p "expect-if must be a list of {when: {POLICY: CHOICE}, ...}"
 
     topKeys = ["description", "rules", "features", "status", "module", "plc", "calls", "expect", "expect-if"]
     expectKeys = ["verdict", "operands", "vars", "outputs", "error", "reject"]
@@ -563,6 +713,10 @@ parseCase file origin knownRule src = do
           Left _ -> failAt p "expected an integer"
     idx i = "[" <> T.pack (show i) <> "]"
     forM_' xs f = mapM_ f xs
+
+-- | The runtime error kinds of corpus-format §4.3.
+runtimeErrorKinds :: [Text]
+runtimeErrorKinds = ["division-by-zero", "index-out-of-range", "subrange", "overflow", "null-pointer", "conversion", "watchdog", "call-depth"]
 
 -- | @expect.operands.%M0012: @ for messages.
 describePath :: Path -> Text

@@ -65,6 +65,9 @@ data Scalar
   | SBool Bool
   | SBits Word32
   | SNaN
+  | SText Text -- ^ an ST literal of the dialect (corpus-format §4.2): @"T#1s"@, @"'abc'"@, @"green"@
+  | SList [Scalar] -- ^ a whole array, element by element
+  | SMap (Map Text Scalar) -- ^ a whole structure, field by field
   deriving (Eq, Show)
 
 instance ToJSON Scalar where
@@ -73,6 +76,9 @@ instance ToJSON Scalar where
     SBool b -> Bool b
     SBits w -> object ["bits" .= bitsText w]
     SNaN -> String "nan"
+    SText t -> String t
+    SList xs -> toJSON xs
+    SMap m -> toJSON m
 
 instance FromJSON Scalar where
   parseJSON = \case
@@ -81,6 +87,9 @@ instance FromJSON Scalar where
     String s | T.toLower s `elem` ["nan", ".nan"] -> pure SNaN
     Object o | [(k, String s)] <- KM.toList o, k == "bits" ->
       maybe (fail ("bits must be a hexadecimal pattern like \"0x7F7FFFFF\", not " <> show s)) (pure . SBits) (parseBits s)
+    String s -> pure (SText s)
+    Array xs -> SList <$> traverse parseJSON (foldr (:) [] xs)
+    Object o -> SMap . M.fromList <$> traverse (\(k, v) -> (K.toText k,) <$> parseJSON v) (KM.toList o)
     v -> fail ("expected a number, true/false, {\"bits\": \"0x...\"} or \"nan\", got " <> take 60 (show v))
 
 -- | @0x7F7FFFFF@: eight upper-case hexadecimal digits.
@@ -109,7 +118,7 @@ scalarToFloat = \case
   SNumber n -> Just (scientificToFloat n)
   SBits w -> Just (realFromBits w)
   SNaN -> Just (0 / 0)
-  SBool _ -> Nothing
+  _ -> Nothing
 
 -- | Correctly rounded: the exact decimal as a 'Rational', then GHC's
 -- correctly rounded 'fromRational'. Exponents far outside binary32's range
@@ -248,12 +257,14 @@ data Request = Request
   , rqPlc :: PlcRequest
   , rqCalls :: [CallRequest]
   , rqObserve :: Observe
+  , rqProgram :: Maybe Text -- ^ IEC dialects (§4.4): the PROGRAM to run, when the case names one
+  , rqCycle :: Maybe Text -- ^ IEC dialects: the task interval as a TIME literal
   }
   deriving (Eq, Show)
 
 instance ToJSON Request where
   toJSON r =
-    object
+    object $
       [ "protocol" .= rqProtocol r
       , "case" .= rqCase r
       , "dialect" .= rqDialect r
@@ -264,6 +275,8 @@ instance ToJSON Request where
       , "calls" .= rqCalls r
       , "observe" .= rqObserve r
       ]
+        ++ maybe [] (\p -> ["program" .= p]) (rqProgram r)
+        ++ maybe [] (\c -> ["cycle" .= c]) (rqCycle r)
 
 instance FromJSON Request where
   parseJSON = withObject "request" $ \o ->
@@ -277,18 +290,22 @@ instance FromJSON Request where
       <*> o .: "plc"
       <*> o .:? "calls" .!= [CallRequest (True, True, True) M.empty]
       <*> o .:? "observe" .!= Observe [] [] [] True
+      <*> o .:? "program"
+      <*> o .:? "cycle"
 
--- | A runtime error as reported: code, line, the three complements.
+-- | A runtime error as reported: MasterTool's code and three complements,
+-- or an IEC dialect's kind (corpus-format §4.3); the line.
 data ErrorReport = ErrorReport
-  { erCode :: Int
+  { erCode :: Maybe Int
+  , erKind :: Maybe Text
   , erLine :: Maybe Int
   , erComp :: Maybe (Int, Int, Int)
   }
   deriving (Eq, Show)
 
 instance ToJSON ErrorReport where
-  toJSON (ErrorReport c l comp) =
-    object (["code" .= c] ++ maybe [] (\x -> ["line" .= x]) l ++ maybe [] (\(a, b, d) -> ["comp" .= [a, b, d]]) comp)
+  toJSON (ErrorReport c k l comp) =
+    object (maybe [] (\x -> ["code" .= x]) c ++ maybe [] (\x -> ["kind" .= x]) k ++ maybe [] (\x -> ["line" .= x]) l ++ maybe [] (\(a, b, d) -> ["comp" .= [a, b, d]]) comp)
 
 instance FromJSON ErrorReport where
   parseJSON = withObject "error" $ \o -> do
@@ -297,7 +314,11 @@ instance FromJSON ErrorReport where
       Nothing -> pure Nothing
       Just [a, b, d] -> pure (Just (a, b, d))
       Just _ -> fail "comp must list three integers"
-    ErrorReport <$> o .: "code" <*> o .:? "line" <*> pure c3
+    code <- o .:? "code"
+    kind <- o .:? "kind"
+    case (code, kind) of
+      (Nothing, Nothing) -> fail "an error states a code (MasterTool) or a kind (IEC dialects)"
+      _ -> ErrorReport code kind <$> o .:? "line" <*> pure c3
 
 -- | What an engine observed after the last call.
 data Observation = Observation

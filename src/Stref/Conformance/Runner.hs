@@ -18,6 +18,8 @@ module Stref.Conformance.Runner
   , runOne
   , buildRequest
   , judge
+  , judgeWith
+  , casePolicies
   , askEngine
   , runExternal
   , globMatch
@@ -50,7 +52,8 @@ import Stref.Conformance.Parallel (inParallel)
 import Stref.Conformance.Protocol
 import Stref.Engine (referenceEngine)
 import Stref.Operands
-import Stref.Policy (Policies, mastertoolXE, policyAssignments)
+import Stref.IEC.Engine (observedTypes, scalarsMatch)
+import Stref.Policy (Policies, lookupPreset, mastertoolXE, policyAssignments, setPolicy)
 import Stref.Values (realBits)
 
 data EngineSpec
@@ -60,7 +63,10 @@ data EngineSpec
 
 data RunOptions = RunOptions
   { roEngine :: EngineSpec
-  , roPolicies :: Policies -- ^ the engine's declared policies: choose @expect-if@, sent in requests
+  , roPolicies :: Policies -- ^ the engine's declared policies for MasterTool XE cases: choose @expect-if@, sent in requests
+  , roOverrides :: Maybe [(Text, Text)]
+  -- ^ 'Just': every case runs under its dialect's preset with these
+  -- assignments (the default); 'Nothing': every case under 'roPolicies'
   , roJobs :: Int
   , roShard :: Maybe (Int, Int) -- ^ @(i, n)@, 1 <= i <= n
   , roFilters :: [Text] -- ^ globs on case ids; a case runs when it matches one (or none are given)
@@ -76,6 +82,7 @@ defaultRunOptions =
   RunOptions
     { roEngine = Reference []
     , roPolicies = mastertoolXE
+    , roOverrides = Just []
     , roJobs = 1
     , roShard = Nothing
     , roFilters = []
@@ -173,17 +180,62 @@ trySync act = try act >>= \case
 
 -- | Run one case: build the request, ask the engine, judge the answer.
 runOne :: RunOptions -> Case -> IO Outcome
-runOne o c = do
-  let ex = effectiveExpect (roPolicies o) c
-      rq = buildRequest (roPolicies o) c ex
-  answer <- askEngine o rq
-  pure $ case answer of
-    Left e -> EngineError e
-    Right a -> judge ex a
+runOne o c = case casePolicies o c of
+  Left e -> pure (InvalidCase e)
+  Right pol -> do
+    let ex = effectiveExpect pol c
+        rq = buildRequest pol c ex
+    answer <- askEngine o rq
+    pure $ case answer of
+      Left e -> EngineError e
+      Right a -> judgeWith (varComparison pol c ex) ex a
+
+-- | The policies a case runs under: its dialect's preset with the run's
+-- assignments, or the run's one record.
+casePolicies :: RunOptions -> Case -> Either Text Policies
+casePolicies o c = case roOverrides o of
+  Nothing -> Right (roPolicies o)
+  Just assignments -> do
+    preset <- maybe (Left ("the dialect " <> caseDialect c <> " has no preset")) Right (lookupPreset (caseDialect c))
+    foldl (\acc (k, v) -> acc >>= setPolicy k v) (Right preset) assignments
+
+-- | How a named variable's expected value is compared with the answer: for
+-- the IEC dialects under the variable's type (from the reference's check
+-- of the case), for MasterTool XE as numbers.
+varComparison :: Policies -> Case -> Expect -> Text -> ExpValue -> Scalar -> Bool
+varComparison pol c ex = case caseIec c of
+  Nothing -> \_ v s -> varMatches v s
+  Just setup ->
+    let types = observedTypes pol (caseSource c) (iecProgram setup) (M.keys (exVars ex))
+     in \name v s -> case M.lookup name types of
+          Just t -> scalarsMatch t (iecScalar v) s
+          Nothing -> False
 
 -- | The request for a case, observing exactly what the expectation names.
 buildRequest :: Policies -> Case -> Expect -> Request
-buildRequest pol c ex =
+buildRequest pol c ex = case caseIec c of
+  Just setup -> iecRequest pol c ex setup
+  Nothing -> mastertoolRequest pol c ex
+
+-- | An IEC dialect's request (§4.4).
+iecRequest :: Policies -> Case -> Expect -> IecSetup -> Request
+iecRequest pol c ex setup =
+  Request
+    { rqProtocol = protocolVersion
+    , rqCase = caseId c
+    , rqDialect = caseDialect c
+    , rqPolicies = M.fromList (policyAssignments pol)
+    , rqSource = caseSource c
+    , rqModule = "P"
+    , rqPlc = PlcRequest (Declare M.empty M.empty) "" (M.fromList [(k, iecScalar v) | (k, v) <- iecInit setup]) Nothing
+    , rqCalls = [CallRequest (True, True, True) (M.fromList [(k, iecScalar v) | (k, v) <- sets]) | sets <- iecCalls setup]
+    , rqObserve = Observe [k | k <- M.keys (exVars ex), "%" `T.isPrefixOf` k] [k | k <- M.keys (exVars ex), not ("%" `T.isPrefixOf` k)] [] True
+    , rqProgram = iecProgram setup
+    , rqCycle = Just (iecCycle setup)
+    }
+
+mastertoolRequest :: Policies -> Case -> Expect -> Request
+mastertoolRequest pol c ex =
   Request
     { rqProtocol = protocolVersion
     , rqCase = caseId c
@@ -208,6 +260,8 @@ buildRequest pol c ex =
           , obsOutputs = ["OUTPUT" <> T.pack (show n) | n <- M.keys (exOutputs ex)]
           , obsError = True
           }
+    , rqProgram = Nothing
+    , rqCycle = Nothing
     }
   where
     plc = casePlc c
@@ -315,7 +369,11 @@ drainKeeping h keep = go 0 []
 
 -- | Compare an answer with the expectation; the first difference fails.
 judge :: Expect -> Answer -> Outcome
-judge ex = \case
+judge = judgeWith (\_ v s -> varMatches v s)
+
+-- | 'judge' with a comparison of named variables.
+judgeWith :: (Text -> ExpValue -> Scalar -> Bool) -> Expect -> Answer -> Outcome
+judgeWith matchVar ex = \case
   AnswerUnsupported r -> Unsupported r
   AnswerRejected line kind msg -> case expectedVerdict ex of
     ExpRejected -> either Fail (const Pass) $ do
@@ -337,7 +395,7 @@ judge ex = \case
     compareError (exError ex) (obError ob)
     let answered = M.fromList (mapMaybe (\(t, s) -> either (const Nothing) (\op -> Just (op, s)) (parseOperand t)) (M.toList (obOperands ob)))
     mapM_ (\(op, v) -> compareOperand op v (M.lookup op answered)) (M.toList (exOperands ex))
-    mapM_ (\(name, v) -> compareVar name v (lookupName name (obVars ob))) (M.toList (exVars ex))
+    mapM_ (\(name, v) -> compareVar name v (lookupName name (M.union (obVars ob) (obOperands ob)))) (M.toList (exVars ex))
     mapM_ (\(n, b) -> compareOutput n b (lookupName ("OUTPUT" <> showT n) (obOutputs ob))) (M.toList (exOutputs ex))
   where
     showT :: Show a => a -> Text
@@ -346,8 +404,8 @@ judge ex = \case
       ExpOk -> "ok"
       ExpRejected -> "rejected"
       ExpRuntimeError -> "runtime-error"
-    errorText (ErrorReport c l comp) =
-      "error " <> showT c <> maybe "" (\x -> " at line " <> showT x) l <> maybe "" (\(a, b, d) -> " comp [" <> T.intercalate ", " (map showT [a, b, d]) <> "]") comp
+    errorText (ErrorReport c k l comp) =
+      "error " <> maybe "" showT c <> maybe "" id k <> maybe "" (\x -> " at line " <> showT x) l <> maybe "" (\(a, b, d) -> " comp [" <> T.intercalate ", " (map showT [a, b, d]) <> "]") comp
     lookupName :: Text -> M.Map Text a -> Maybe a
     lookupName n m = case M.lookup n m of
       Just x -> Just x
@@ -357,8 +415,13 @@ judge ex = \case
       (Just ErrNone, Nothing) -> Right ()
       (Just ErrNone, Just e) -> Left (Difference "error" "none" (errorText e))
       (Just (ErrCode c _ _), Nothing) -> Left (Difference "error" ("error " <> showT c) "none")
-      (Just (ErrCode c l comp), Just e@(ErrorReport c' l' comp'))
-        | c /= c' -> Left (Difference "error.code" (showT c) (errorText e))
+      (Just (ErrKind k _), Nothing) -> Left (Difference "error" ("error " <> k) "none")
+      (Just (ErrKind k l), Just e@(ErrorReport _ k' l' _))
+        | Just k /= k' -> Left (Difference "error.kind" k (errorText e))
+        | Just x <- l, l' /= Just x -> Left (Difference "error.line" (showT x) (maybe "not reported" showT l'))
+        | otherwise -> Right ()
+      (Just (ErrCode c l comp), Just e@(ErrorReport c'' _ l' comp'))
+        | Just c /= c'' -> Left (Difference "error.code" (showT c) (errorText e))
         | Just x <- l, l' /= Just x -> Left (Difference "error.line" (showT x) (maybe "not reported" showT l'))
         | Just x <- comp, comp' /= Just x -> Left (Difference "error.comp" (showT x) (maybe "not reported" showT comp'))
         | otherwise -> Right ()
@@ -375,7 +438,7 @@ judge ex = \case
     compareVar name v = \case
       Nothing -> Left (Difference name (renderExpValue v) "not reported")
       Just s
-        | varMatches v s -> Right ()
+        | matchVar name v s -> Right ()
         | otherwise -> Left (Difference name (renderExpValue v) (scalarText s))
 
 scalarText :: Scalar -> Text
@@ -384,6 +447,9 @@ scalarText = \case
   SBool b -> if b then "true" else "false"
   SBits w -> renderExpValue (EBits w)
   SNaN -> "nan"
+  SText t -> t
+  SList xs -> "[" <> T.intercalate ", " (map scalarText xs) <> "]"
+  SMap m -> "{" <> T.intercalate ", " [k <> ": " <> scalarText v | (k, v) <- M.toList m] <> "}"
 
 -- | An operand is a bit pattern of its width: an expected integer matches
 -- the pattern read as signed or as unsigned; REAL operands compare binary32
@@ -419,7 +485,8 @@ realMatches v f = case v of
   EReal r -> realBits r == realBits f
   EInt n -> realBits (fromInteger n) == realBits f
   EBits b -> b == realBits f
-  EBool _ -> False
+  EDecimal d -> realBits (scientificToFloat d) == realBits f
+  _ -> False
 
 -- | Named variables: integers compare as numbers (bit strings read
 -- unsigned, as the reference reports them), REAL by binary32.

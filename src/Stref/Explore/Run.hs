@@ -89,6 +89,8 @@ explorationRequest pol calls caseId gm =
           }
     , rqCalls = replicate (max 1 calls) (CallRequest (True, True, True) M.empty)
     , rqObserve = Observe (map renderOperand (observedOperands gm)) [] ["OUTPUT1", "OUTPUT2", "OUTPUT3"] True
+    , rqProgram = Nothing
+    , rqCycle = Nothing
     }
   where
     scalar = \case
@@ -125,7 +127,7 @@ summarise gm = \case
     SumRun
       [(renderOperand o, pattern o (M.lookup (renderOperand o) (obOperands ob))) | o <- observedOperands gm]
       [(k, M.lookup k (obOutputs ob)) | k <- ["OUTPUT1", "OUTPUT2", "OUTPUT3"]]
-      (erCode <$> obError ob)
+      (obError ob >>= erCode)
       (obError ob >>= erLine)
   where
     pattern o = \case

@@ -1,0 +1,161 @@
+-- | The commands for the dialects that run the IEC model (@--dialect
+-- tecomat@): check a compilation unit, run its programs over scan cycles,
+-- evaluate a snippet as the body of a program.
+module Cmd.Iec
+  ( dialectPolicies
+  , isIecDialect
+  , checkIec
+  , runIec
+  , evalIec
+  , RunIecOptions (..)
+  ) where
+
+import Control.Monad (foldM, forM_)
+import Data.Aeson ((.=))
+import qualified Data.Aeson as A
+import qualified Data.Aeson.Key as K
+import qualified Data.ByteString.Lazy.Char8 as BL
+import Data.List (sortOn)
+import Data.Scientific (floatingOrInteger)
+import qualified Data.Map.Strict as M
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.IO as TIO
+import System.Exit
+import System.IO (stderr)
+import Stref.Conformance.Protocol (Scalar (..))
+import Stref.IEC.Check (ProgramChoice (..), checkUnit)
+import Stref.IEC.Checked
+import Stref.IEC.Engine
+import Stref.IEC.Eval (Machine (..), Stop (..), readVariablePath)
+import Stref.IEC.Parser (parseUnit)
+import Stref.IEC.Syntax (Pos (..), PouKind (..))
+import Stref.IEC.Types (Elem (TIME))
+import Stref.IEC.Values
+import Stref.Policy
+import Stref.Verification (renderError)
+
+-- | The preset of a dialect with @--policy K=V@ assignments applied.
+dialectPolicies :: String -> [String] -> Either Text Policies
+dialectPolicies dialect assignments = do
+  preset <- maybe (Left ("unknown dialect '" <> T.pack dialect <> "'; the dialects are: " <> T.intercalate ", " (map fst presets))) Right (lookupPreset (T.pack dialect))
+  foldM assign preset assignments
+  where
+    assign p kv = case T.breakOn "=" (T.pack kv) of
+      (k, v) | not (T.null v) -> setPolicy k (T.drop 1 v) p
+      _ -> Left ("--policy takes K=V, not '" <> T.pack kv <> "'")
+
+isIecDialect :: Policies -> Bool
+isIecDialect p = pModel p == IecController
+
+-- | @stref check --dialect tecomat FILE@: parse and check the unit.
+checkIec :: Policies -> FilePath -> Text -> IO ExitCode
+checkIec pol file src = case parseUnit pol file src >>= checkUnit pol AllPrograms of
+  Left e -> do
+    TIO.hPutStr stderr (renderError file src e)
+    pure (ExitFailure 1)
+  Right prog -> do
+    let pous = M.elems (prPous prog)
+        user = [d | d <- pous, isUser d]
+    putStrLn (file <> ": valid (" <> show (length user) <> " POUs: " <> T.unpack (T.intercalate ", " [kindText (pdKind d) <> " " <> pdName d | d <- sortOn (posOf . pdEndPos) user]) <> ")")
+    pure ExitSuccess
+  where
+    isUser d = case pdBody d of
+      Statements _ -> True
+      Native _ -> False
+    posOf (Pos l c) = (l, c)
+    kindText = \case
+      KFunction -> "FUNCTION"
+      KFunctionBlock -> "FUNCTION_BLOCK"
+      KProgram -> "PROGRAM"
+
+data RunIecOptions = RunIecOptions
+  { riCalls :: Int
+  , riCycle :: Text
+  , riProgram :: Maybe Text
+  , riSets :: [(Text, Text)] -- ^ path, ST literal or number, written before the first cycle
+  , riJson :: Bool
+  }
+
+-- | @stref run --dialect tecomat FILE@: the programs over N cycles on the
+-- virtual clock; the variables of every program instance and the globals
+-- after the last cycle.
+runIec :: Policies -> FilePath -> Text -> RunIecOptions -> IO ExitCode
+runIec pol file src o = case cycleMillis pol (riCycle o) of
+  Left e -> usage e
+  Right cycle -> do
+    let choice = maybe ProgramsOfConfiguration ProgramNamed (riProgram o)
+        sets = [(p, toScalar v) | (p, v) <- riSets o]
+        calls = sets : replicate (max 0 (riCalls o - 1)) []
+    case runProgram pol file src choice cycle [] (if riCalls o <= 0 then [] else calls) of
+      Left e -> do
+        TIO.hPutStr stderr (renderError file src e)
+        pure (ExitFailure 1)
+      Right (Left e) -> usage e
+      Right (Right r) -> do
+        let vars = observedVariables r
+            err = rrError r
+        if riJson o
+          then
+            BL.putStrLn $
+              A.encode $
+                A.object
+                  [ "cycles" .= rrCycles r
+                  , "clock_ms" .= mClock (rrMachine r)
+                  , "error" .= fmap (\(k, StopFault (Pos l _) f) -> A.object ["cycle" .= k, "kind" .= faultKind f, "line" .= l, "message" .= faultMessage f]) err
+                  , "vars" .= A.object [K.fromText n .= v | (n, v) <- vars]
+                  ]
+          else do
+            putStrLn ("cycles run: " <> show (rrCycles r) <> " (cycle " <> T.unpack (riCycle o) <> ", clock at the last cycle " <> T.unpack (renderTime TIME (mClock (rrMachine r))) <> ")")
+            case err of
+              Nothing -> putStrLn "error: none"
+              Just (k, StopFault (Pos l _) f) -> putStrLn ("error: " <> T.unpack (faultKind f) <> " in cycle " <> show k <> " at line " <> show l <> ": " <> T.unpack (faultMessage f))
+            forM_ vars $ \(n, v) -> TIO.putStrLn ("  " <> n <> " = " <> scalarText v)
+        pure (maybe ExitSuccess (const (ExitFailure 1)) err)
+  where
+    usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
+    toScalar v = case reads (T.unpack v) :: [(Integer, String)] of
+      [(n, "")] -> SNumber (fromInteger n)
+      _ -> case T.toUpper v of
+        "TRUE" -> SBool True
+        "FALSE" -> SBool False
+        _ -> case reads (T.unpack v) :: [(Double, String)] of
+          [(_, "")] -> SNumber (read (T.unpack v))
+          _ -> SText v
+
+-- | Every variable of the program instances and the globals, flattened to
+-- paths (structures, arrays and FB instances element by element).
+observedVariables :: RunResult -> [(Text, Scalar)]
+observedVariables r =
+  let m = rrMachine r
+      prog = rrProgram r
+      globals = [(viName v, v) | v <- prGlobals prog]
+      instances = [(inst, t) | (inst, t) <- prInstances prog]
+      pathsOf prefix = \case
+        SMap fs -> concat [pathsOf (prefix <> "." <> k) v | (k, v) <- M.toList fs]
+        SList xs -> concat [pathsOf (prefix <> "[" <> T.pack (show i) <> "]") v | (i, v) <- zip [(1 :: Int) ..] xs]
+        s -> [(prefix, s)]
+      observe p = case parseVarPath p of
+        Right steps -> maybe [] (\(v, _) -> pathsOf p (valueScalar v)) (readVariablePath prog m steps)
+        Left _ -> []
+   in concatMap (\(n, _) -> observe n) globals
+        ++ concat [observe (inst <> "." <> viName v) | (inst, t) <- instances, Just d <- [lookupPou prog t], v <- pdVars d, not (T.null (viName v))]
+
+scalarText :: Scalar -> Text
+scalarText = \case
+  SNumber n -> case floatingOrInteger n :: Either Double Integer of
+    Right i -> T.pack (show i)
+    Left d -> T.pack (show d)
+  SBool b -> if b then "TRUE" else "FALSE"
+  SText t -> t
+  SNaN -> "NaN"
+  SBits w -> T.pack (show w)
+  SList xs -> "[" <> T.intercalate ", " (map scalarText xs) <> "]"
+  SMap fs -> "(" <> T.intercalate ", " [k <> " := " <> scalarText v | (k, v) <- M.toList fs] <> ")"
+
+-- | @stref eval --dialect tecomat SNIPPET@: VAR blocks and statements as
+-- the body of a PROGRAM, run for N cycles.
+evalIec :: Policies -> Text -> Int -> IO ExitCode
+evalIec pol snippet calls = do
+  let src = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
+  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False)

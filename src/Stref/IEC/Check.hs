@@ -1,0 +1,1017 @@
+{-# LANGUAGE FlexibleContexts #-}
+
+-- | The checker of an IEC compilation unit: resolves names and types, gives
+-- untyped literals the type of their context (TC-CONV-4), checks the rules a
+-- compiler enforces (docs/tecomat.md, "Compile-time errors") and computes
+-- initial values. The result is the 'Program' the evaluator runs.
+module Stref.IEC.Check
+  ( checkUnit
+  , ProgramChoice (..)
+  , locationType
+  , standardFunctionNames
+  ) where
+
+import Control.Monad (forM, forM_, unless, when)
+import Control.Monad.Except (Except, runExcept, throwError)
+import Control.Monad.Reader (ReaderT, asks, local, runReaderT)
+import Data.List (find, sortOn)
+import qualified Data.Map.Lazy as ML
+import qualified Data.Map.Strict as M
+import Data.Maybe (catMaybes, fromMaybe, isJust, isNothing)
+import qualified Data.Sequence as Seq
+import qualified Data.Set as Set
+import Data.Text (Text)
+import qualified Data.Text as T
+import Stref.IEC.Checked
+import Stref.IEC.Conversions (conversionName, convert)
+import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
+import Stref.IEC.Standard (standardType)
+import Stref.IEC.StandardFB (standardFBNames, standardFBs)
+import Stref.IEC.Syntax
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy
+import Stref.Verification (VerificationError (..))
+
+-- | Which programs run: the ones of the configuration, one named, or the
+-- file's only PROGRAM.
+data ProgramChoice
+  = ProgramsOfConfiguration -- ^ the configuration's, or the file's only PROGRAM
+  | ProgramNamed Text
+  | AllPrograms -- ^ every PROGRAM, each as one instance (for checking a file)
+  deriving (Eq, Show)
+
+data Env = Env
+  { envPol :: Policies
+  , envTypes :: M.Map Text TypeDecl
+  , envPous :: M.Map Text Pou -- ^ user POUs
+  , envStd :: M.Map Text PouDef -- ^ standard FBs
+  , envVarsOf :: M.Map Text [VarInfo] -- ^ the resolved variables of every user POU (lazy)
+  , envGlobals :: M.Map Text VarInfo
+  , envPou :: Maybe Pou -- ^ the POU being checked
+  , envLocals :: M.Map Text VarInfo
+  , envLoop :: Bool
+  , envTypeDepth :: Int
+  }
+
+type C = ReaderT Env (Except VerificationError)
+
+failC :: Text -> Pos -> Text -> C a
+failC k p m = throwError (VerificationError k p m)
+
+-- | Standard function names (Tab.3.12-3.19), reserved for user names
+-- (TC-LEX-3).
+standardFunctionNames :: [Text]
+standardFunctionNames =
+  [ "ABS", "SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "ADD", "MUL", "SUB", "DIV", "MOD", "EXPT", "MOVE"
+  , "SHL", "SHR", "ROR", "ROL", "AND", "OR", "XOR", "NOT", "SEL", "MAX", "MIN", "LIMIT", "MUX", "GT", "GE", "EQ", "LE", "LT", "NE"
+  , "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND", "TRUNC"
+  ]
+
+-- | TC-LEX-1, TC-LEX-3 (and TC-LEX-4, taken literally): elementary type
+-- names, standard functions and FBs, and the names of their parameters are
+-- not user names.
+reservedName :: Text -> Bool
+reservedName n =
+  let u = key n
+   in isJust (parseElemName u) || u `elem` standardFunctionNames || u `elem` standardFBNames || isJust (conversionName u)
+        || u `elem` standardParameterNames
+        || (("IN" `T.isPrefixOf` u) && T.length u > 2 && T.all (`elem` ['0' .. '9']) (T.drop 2 u))
+
+-- | The parameters of the standard functions (Tab.3.12-3.19) and FBs
+-- (Tab.3.22).
+standardParameterNames :: [Text]
+standardParameterNames = ["IN", "N", "L", "P", "G", "K", "MN", "MX", "S", "S1", "R", "R1", "CLK", "Q", "Q1", "CU", "CD", "LD", "PV", "QU", "QD", "CV", "PT", "ET"]
+
+checkUnit :: Policies -> ProgramChoice -> Unit -> Either VerificationError Program
+checkUnit pol choice (Unit decls) = runExcept $ do
+  let typeDecls = concat [ts | DTypes ts <- decls]
+      pous = [p | DPou p <- decls]
+      configs = [c | DConfig c <- decls]
+      globalBlocks = [b | DGlobals b <- decls] ++ concat [cfgGlobals c ++ concatMap resGlobals (cfgResources c) | c <- configs]
+      std = M.fromList (standardFBs pol)
+  -- duplicates and reserved names among the declared names
+  let topNames = [(tdPos t, tdName t) | t <- typeDecls] ++ [(pouPos p, pouName p) | p <- pous]
+  forM_ topNames $ \(p, n) -> when (reservedName n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
+  checkDuplicates topNames
+  let env0 =
+        Env
+          { envPol = pol
+          , envTypes = M.fromList [(key (tdName t), t) | t <- typeDecls]
+          , envPous = M.fromList [(key (pouName p), p) | p <- pous]
+          , envStd = std
+          , envVarsOf = varsOf
+          , envGlobals = M.empty
+          , envPou = Nothing
+          , envLocals = M.empty
+          , envLoop = False
+          , envTypeDepth = 0
+          }
+      -- the variables of every POU, resolved once; laziness lets an FB's
+      -- instance value use the variables of the FBs it contains
+      varsOfE = ML.fromList [(key (pouName p), runExcept (runReaderT (pouVariables p) env0 {envVarsOf = varsOf})) | p <- pous]
+      varsOf = ML.map (either (const []) id) varsOfE
+  -- report the first error in a POU's declarations
+  forM_ pous $ \p -> either throwError (const (pure ())) (varsOfE M.! key (pouName p))
+  globals <- runReaderT (concat <$> mapM (blockVars Nothing) globalBlocks) env0
+  checkDuplicates [(viPos v, viName v) | v <- globals]
+  let env1 = env0 {envGlobals = M.fromList [(viKey v, v) | v <- globals]}
+  defs <- forM pous $ \p -> runReaderT (checkPou p) env1 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)]}
+  checkRecursion pous
+  instances <- case choice of
+    AllPrograms -> pure [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram]
+    ProgramNamed n -> case find ((== key n) . key . pouName) pous of
+      Just p | pouKind p == KProgram -> pure [(pouName p, key (pouName p))]
+      _ -> throwError (VerificationError "undeclared-program" (Pos 1 1) ("the case names the program " <> n <> ", which the file does not declare"))
+    ProgramsOfConfiguration -> case configs of
+      (c : _) -> forM (orderedPrograms c) $ \pc -> case M.lookup (key (pcType pc)) (M.fromList [(key (pouName p), p) | p <- pous]) of
+        Just p | pouKind p == KProgram -> pure (pcInstance pc, key (pouName p))
+        _ -> throwError (VerificationError "undeclared-program" (pcPos pc) ("the configuration runs " <> pcType pc <> ", which is not a PROGRAM of the file"))
+      [] -> case [p | p <- pous, pouKind p == KProgram] of
+        [p] -> pure [(pouName p, key (pouName p))]
+        [] -> throwError (VerificationError "no-program" (Pos 1 1) "the file has no PROGRAM to run")
+        (_ : p : _) -> throwError (VerificationError "several-programs" (pouPos p) "the file has several PROGRAMs and no CONFIGURATION: say which one runs")
+  interval <- case configs of
+    (c : _) -> pure (taskInterval c)
+    [] -> pure Nothing
+  pure
+    Program
+      { prPous = M.union (M.fromList [(key (pdName d), d) | d <- defs]) std
+      , prGlobals = globals
+      , prInstances = instances
+      , prTaskInterval = interval
+      }
+  where
+    reservedMessage n = "'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name user declarations (TC-LEX-1, TC-LEX-3)"
+
+-- | TC-CFG-11: the programs of each task in the order of their association;
+-- tasks by their Number property (the Tecomat process number), programs
+-- without a task last.
+orderedPrograms :: Configuration -> [ProgramConfig]
+orderedPrograms c =
+  let assoc = [(r, pc) | r <- cfgResources c, pc <- resPrograms r]
+      taskNumber r pc = case pcTask pc of
+        Nothing -> 2 ^ (62 :: Int) :: Integer
+        Just t -> case find ((== key t) . key . taskName) (resTasks r) of
+          Just tk -> fromMaybe 0 (lookup "NUMBER" [(key k, n) | (k, ELit _ (LInt n)) <- taskProps tk])
+          Nothing -> 0
+   in [pc | (_, (_, pc)) <- sortOn (\(i, (r, pc)) -> (taskNumber r pc, i)) (zip [0 :: Int ..] assoc)]
+
+taskInterval :: Configuration -> Maybe Integer
+taskInterval c =
+  case [ns | r <- cfgResources c, t <- resTasks r, (k, ELit _ (LTime ns)) <- taskProps t, key k == "INTERVAL"] of
+    (ns : _) -> Just (ns `div` 1000000)
+    [] -> Nothing
+
+checkDuplicates :: [(Pos, Text)] -> Except VerificationError ()
+checkDuplicates = go Set.empty
+  where
+    go _ [] = pure ()
+    go seen ((p, n) : rest)
+      | key n `Set.member` seen = throwError (VerificationError "duplicate-identifier" p ("'" <> n <> "' is declared twice in the same scope"))
+      | otherwise = go (Set.insert (key n) seen) rest
+
+------------------------------------------------------------------------------
+-- Declarations
+
+-- | Tab.2.2 (TC-VAR-9..15): which sections each POU kind may have.
+sectionAllowed :: PouKind -> Section -> Bool
+sectionAllowed k s = case (k, s) of
+  (_, SecGlobal) -> False
+  (KFunction, SecOutput) -> False
+  (KFunction, SecExternal) -> False
+  _ -> True
+
+pouVariables :: Pou -> C [VarInfo]
+pouVariables p = do
+  forM_ (pouVars p) $ \b ->
+    unless (sectionAllowed (pouKind p) (vbSection b)) $
+      failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is not allowed in a " <> kindName (pouKind p) <> " (TC-VAR-9..15)")
+  vs <- concat <$> mapM (blockVars (Just (pouKind p))) (pouVars p)
+  let names = [(viPos v, viName v) | v <- vs] ++ [(pouPos p, pouName p) | pouKind p == KFunction]
+  either throwError pure (runExcept (checkDuplicates names))
+  result <- case (pouKind p, pouResult p) of
+    (KFunction, Just t) -> do
+      ty <- resolveType t
+      pure [VarInfo (pouName p) (key (pouName p)) SecOutput ty (defaultValue ty) False Nothing Nothing (pouPos p)]
+    _ -> pure []
+  pure (vs ++ result)
+
+sectionName :: Section -> Text
+sectionName = \case
+  SecVar -> "VAR"
+  SecInput -> "VAR_INPUT"
+  SecOutput -> "VAR_OUTPUT"
+  SecInOut -> "VAR_IN_OUT"
+  SecExternal -> "VAR_EXTERNAL"
+  SecGlobal -> "VAR_GLOBAL"
+  SecTemp -> "VAR_TEMP"
+
+kindName :: PouKind -> Text
+kindName = \case
+  KFunction -> "FUNCTION"
+  KFunctionBlock -> "FUNCTION_BLOCK"
+  KProgram -> "PROGRAM"
+
+-- | The variables of one block, with their types and initial values.
+blockVars :: Maybe PouKind -> VarBlock -> C [VarInfo]
+blockVars kind b = do
+  -- TC-VAR-19..25 (Tab.3.11): CONSTANT only on VAR and VAR_GLOBAL; RETAIN on
+  -- VAR_GLOBAL, and on VAR as the manual's own example shows (TC-ERRATA-10)
+  when (vbConstant b && vbSection b `notElem` [SecVar, SecGlobal, SecExternal]) $
+    failC "section-not-allowed" (vbPos b) ("CONSTANT is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-19..25)")
+  when (vbRetain b && vbSection b `notElem` [SecVar, SecGlobal]) $
+    failC "section-not-allowed" (vbPos b) ("RETAIN is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-26)")
+  when (isNothing kind && vbSection b /= SecGlobal) $
+    failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is only allowed inside a POU")
+  concat <$> forM (vbDecls b) (declVars (vbSection b) (vbConstant b))
+
+declVars :: Section -> Bool -> VarDecl -> C [VarInfo]
+declVars sec constant d = do
+  forM_ (vdNames d) $ \(p, n) -> when (reservedName n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
+  ty <- resolveType (vdType d)
+  when (sec == SecExternal && isJust (vdInit d)) $
+    failC "external-initialised" (vdPos d) "a VAR_EXTERNAL variable cannot have an initial value (TC-VAR-30)"
+  case vdEdge d of
+    Just _
+      | sec /= SecInput -> failC "section-not-allowed" (vdPos d) "R_EDGE and F_EDGE qualify only inputs (TC-VAR-20)"
+      | ty /= TElem BOOL -> failC "type-mismatch" (vdPos d) "R_EDGE and F_EDGE qualify only BOOL inputs (TC-POU-29)"
+    _ -> pure ()
+  when (isJust (vdAt d) && sec `notElem` [SecVar, SecGlobal]) $
+    failC "section-not-allowed" (vdPos d) ("AT is not allowed in " <> sectionName sec)
+  base <- resolveDefault (vdType d)
+  initV <- maybe (pure base) (initialValue ty base) (vdInit d)
+  case vdNames d of
+    [] -> pure [VarInfo (maybe "" locText (vdAt d)) (maybe "" locText (vdAt d)) sec ty initV constant (vdAt d) Nothing (vdPos d)]
+    ns -> pure [VarInfo n (key n) sec ty initV constant (vdAt d) (vdEdge d) p | (p, n) <- ns]
+
+-- | The initial value of a type as declared: a TYPE's own initial value,
+-- the initial values of a structure's fields, the type's default otherwise
+-- (TC-TYPE-21..23); an FB instance holds its variables' initial values.
+resolveDefault :: TypeSpec -> C Value
+resolveDefault spec = do
+  ty <- resolveType spec
+  case spec of
+    TSName _ n | Nothing <- parseElemName n -> do
+      types <- asks envTypes
+      depth <- asks envTypeDepth
+      case M.lookup (key n) types of
+        Just td -> local (\e -> e {envTypeDepth = depth + 1}) $ do
+          base <- case ty of
+            TEnum {} -> pure (defaultValue ty) -- the value carries the type's name
+            _ -> resolveDefault (tdSpec td)
+          maybe (pure base) (initialValue ty base) (tdInit td)
+        Nothing -> case ty of
+          TFB fb -> instanceValue fb
+          _ -> pure (defaultValue ty)
+    TSStruct _ ds -> do
+      fields <- forM ds $ \d -> do
+        ft <- resolveType (vdType d)
+        fb <- resolveDefault (vdType d)
+        v <- maybe (pure fb) (initialValue ft fb) (vdInit d)
+        pure [(key n, v) | (_, n) <- vdNames d]
+      pure (VStruct (M.fromList (concat fields)))
+    TSArray _ _ t -> do
+      e <- resolveDefault t
+      pure $ case defaultValue ty of
+        VArray bs xs -> VArray bs (fmap (const e) xs)
+        v -> v
+    _ -> pure (defaultValue ty)
+
+instanceValue :: Text -> C Value
+instanceValue n = do
+  std <- asks envStd
+  varsOf <- asks envVarsOf
+  depth <- asks envTypeDepth
+  when (depth > 32) (failC "recursive-type" (Pos 1 1) ("the function block " <> n <> " contains itself"))
+  case M.lookup (key n) std of
+    Just d -> pure (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d]))
+    Nothing -> case M.lookup (key n) varsOf of
+      Just vs -> pure (VInstance n (M.fromList [(viKey v, viInit v) | v <- vs]))
+      Nothing -> pure (VInstance n M.empty)
+
+-- | A type as written, resolved: aliases are replaced by what they name
+-- (TC-TYPE-34, TC-TYPE-35).
+resolveType :: TypeSpec -> C Type
+resolveType = \case
+  TSName p n -> case parseElemName n of
+    Just e -> pure (TElem e)
+    Nothing -> do
+      types <- asks envTypes
+      pous <- asks envPous
+      std <- asks envStd
+      depth <- asks envTypeDepth
+      when (depth > 64) (failC "recursive-type" p ("the type " <> n <> " is defined through itself"))
+      case M.lookup (key n) types of
+        Just td -> do
+          t <- local (\e -> e {envTypeDepth = depth + 1}) (resolveType (tdSpec td))
+          pure (case t of
+            TEnum "" vs -> TEnum (tdName td) vs
+            TStruct "" fs -> TStruct (tdName td) fs
+            _ -> t)
+        Nothing
+          | Just pd <- M.lookup (key n) pous, pouKind pd == KFunctionBlock -> pure (TFB (pouName pd))
+          | Just d <- M.lookup (key n) std -> pure (TFB (pdName d))
+          | otherwise -> failC "undeclared-type" p ("the type " <> n <> " is not declared")
+  TSString p wide len -> do
+    pol <- asks envPol
+    n <- case len of
+      Nothing -> pure (pStringLength pol) -- TC-TYPE-26
+      Just e -> fromInteger <$> constInt e
+    when (n < 1) (failC "value-out-of-limits" p "a string's length must be at least 1")
+    pure (TString wide (fromInteger (toInteger n)))
+  TSArray p dims t -> do
+    when (length dims > 4) (failC "too-many-dimensions" p "an array has at most 4 dimensions (TC-TYPE-39)")
+    bs <- forM dims $ \(a, b) -> do
+      lo <- constInt a
+      hi <- constInt b
+      when (hi < lo) (failC "value-out-of-limits" (exprPos a) "the upper bound of an array is below its lower bound")
+      when (lo < -32768 || hi > 32767) (failC "value-out-of-limits" (exprPos a) "array bounds lie within the range of INT (TC-TYPE-40)")
+      pure (lo, hi)
+    TArray bs <$> resolveType t
+  TSStruct _ ds -> do
+    fs <- forM ds $ \d -> do
+      t <- resolveType (vdType d)
+      pure [(n, t) | (_, n) <- vdNames d]
+    pure (TStruct "" (concat fs))
+  TSEnum _ vs -> pure (TEnum "" (map snd vs))
+  TSSubrange p n (a, b) -> do
+    base <- resolveType (TSName p n)
+    lo <- constInt a
+    hi <- constInt b
+    case base of
+      TElem e | isAnyInt e -> pure (TSubrange e lo hi)
+      _ -> failC "type-mismatch" p "a subrange is a range of an integer type (TC-TYPE-32)"
+
+-- | A constant integer (array bounds, string lengths, subranges).
+constInt :: Expr -> C Integer
+constInt e = do
+  v <- constValue Nothing e
+  case v of
+    VInt _ n -> pure n
+    _ -> failC "not-a-constant" (exprPos e) "an integer constant was expected"
+
+-- | The value of a constant expression: literals, enumerated values,
+-- CONSTANT globals and operators over them.
+constValue :: Maybe Type -> Expr -> C Value
+constValue expected e = do
+  ce <- checkExprAt expected e
+  evalConst ce
+
+evalConst :: CExpr -> C Value
+evalConst ce = do
+  pol <- asks envPol
+  globals <- asks envGlobals
+  let go c = case ceNode c of
+        CConst v -> Right v
+        CUnary o a -> go a >>= either (Left . faultMessage) Right . unary pol o
+        CBinary o a b -> do
+          x <- go a
+          y <- go b
+          either (Left . faultMessage) Right (binary pol o x y)
+        CConvert t a -> go a >>= either (Left . faultMessage) Right . convert pol (ceType a) t
+        CRead (CGlobal k) | Just v <- M.lookup k globals, viConstant v -> Right (viInit v)
+        _ -> Left "this is not a constant expression"
+  either (failC "not-a-constant" (cePos ce)) pure (go ce)
+
+-- | An initial value of a type (TC-TYPE-23, TC-TYPE-43, TC-TYPE-44), over
+-- the type's own initial value (what a list leaves out keeps it).
+initialValue :: Type -> Value -> Init -> C Value
+initialValue ty base = \case
+  IExpr e -> constValue (Just ty) e >>= \v -> fitStore (exprPos e) ty v
+  IArray p items -> case ty of
+    TArray bs t -> do
+      let elemBase = case base of
+            VArray _ xs | Just x <- Seq.lookup 0 xs -> x
+            _ -> defaultValue t
+      vals <- concat <$> forM items (\(rep, i) -> do
+        n <- maybe (pure 1) constInt rep
+        v <- case i of
+          IArray _ [] -> pure elemBase
+          _ -> initialValue t elemBase i
+        pure (replicate (fromInteger n) v))
+      let size = fromInteger (product [hi - lo + 1 | (lo, hi) <- bs])
+      when (length vals > size) (failC "value-out-of-limits" p "more initial values than array elements")
+      pure (VArray bs (Seq.fromList (vals ++ replicate (size - length vals) elemBase)))
+    _ -> failC "type-mismatch" p ("a list of initial values for " <> typeText ty <> ", which is not an array")
+  IStruct p fields -> case (ty, base) of
+    (TStruct _ fs, VStruct m) -> do
+      vals <- forM fields $ \(f, i) -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
+        Nothing -> failC "undeclared-variable" p ("the structure has no field " <> f)
+        Just t -> (key f,) <$> initialValue t (M.findWithDefault (defaultValue t) (key f) m) i
+      pure (VStruct (M.union (M.fromList vals) m))
+    _ -> failC "type-mismatch" p ("a structure's initial values for " <> typeText ty)
+
+-- | A constant that must fit its declared type.
+fitStore :: Pos -> Type -> Value -> C Value
+fitStore p ty v = case (ty, v) of
+  (TSubrange _ lo hi, VInt e n)
+    | n < lo || n > hi -> failC "value-out-of-limits" p ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi))
+    | otherwise -> pure (VInt e n)
+  _ -> pure v
+
+------------------------------------------------------------------------------
+-- POU bodies
+
+checkPou :: Pou -> C PouDef
+checkPou p = do
+  locals <- asks envLocals
+  body <- checkStmts (pouBody p)
+  let vars = M.elems locals
+      ordered = sortOn viPos vars
+  pure
+    PouDef
+      { pdKind = pouKind p
+      , pdName = pouName p
+      , pdVars = ordered
+      , pdVarMap = locals
+      , pdResult = (\k -> viType <$> M.lookup k locals) (key (pouName p)) >>= \t -> if pouKind p == KFunction then Just t else Nothing
+      , pdBody = Statements body
+      , pdEndPos = pouEnd p
+      }
+
+checkStmts :: [Stmt] -> C [CStmt]
+checkStmts = fmap catMaybes . mapM checkStmt
+
+checkStmt :: Stmt -> C (Maybe CStmt)
+checkStmt = \case
+  SEmpty _ -> pure Nothing
+  SAssign p target value -> do
+    (ref, ty) <- checkTarget target
+    v <- checkExprAt (Just ty) value >>= assignable ty
+    pure (Just (CAssign p ref ty v))
+  SCall p callee args -> Just <$> checkCallStmt p callee args
+  SIf p arms els -> do
+    arms' <- forM arms $ \(c, b) -> (,) <$> condition c <*> checkStmts b
+    Just . CIf p arms' <$> checkStmts els
+  SCase p sel arms els -> do
+    s <- checkExprAt Nothing sel 
+    case ceType s of
+      TElem e | isAnyInt e -> pure ()
+      TSubrange {} -> pure ()
+      TEnum {} -> pure ()
+      t -> failC "type-mismatch" (exprPos sel) ("a CASE selector is an integer or an enumeration, not " <> typeText t <> " (TC-STMT-11, TC-STMT-16)")
+    arms' <- forM arms $ \(labels, b) -> do
+      ranges <- forM labels $ \case
+        CaseValue e -> (\o -> (o, o)) <$> labelOrdinal (ceType s) e
+        CaseRange a b' -> (,) <$> labelOrdinal (ceType s) a <*> labelOrdinal (ceType s) b'
+      (ranges,) <$> checkStmts b
+    Just . CCase p s arms' <$> checkStmts els
+  SFor p v start end step body -> do
+    (ref, ty) <- checkTarget (EVar p v)
+    case baseElem ty of
+      Just e | isAnyInt e -> pure ()
+      _ -> failC "type-mismatch" p ("the FOR control variable " <> v <> " must be of an integer type (TC-STMT-19)")
+    s <- checkExprAt (Just ty) start >>= assignable ty
+    e <- checkExprAt (Just ty) end >>= assignable ty
+    st <- traverse (\x -> checkExprAt (Just ty) x >>= assignable ty) step
+    b <- local (\env -> env {envLoop = True}) (checkStmts body)
+    pure (Just (CFor p ref s e st b))
+  SWhile p c body -> do
+    c' <- condition c
+    Just . CWhile p c' <$> local (\env -> env {envLoop = True}) (checkStmts body)
+  SRepeat p body c -> do
+    b <- local (\env -> env {envLoop = True}) (checkStmts body)
+    Just . CRepeat p b <$> condition c
+  SExit p -> do
+    inLoop <- asks envLoop
+    unless inLoop (failC "exit-outside-loop" p "EXIT stands outside a FOR, WHILE or REPEAT loop (TC-STMT-36)")
+    pure (Just (CExit p))
+  SReturn p -> pure (Just (CReturn p))
+
+condition :: Expr -> C CExpr
+condition c = do
+  ce <- checkExprAt (Just (TElem BOOL)) c 
+  unless (ceType ce == TElem BOOL) (failC "type-mismatch" (exprPos c) ("a condition must be BOOL, not " <> typeText (ceType ce) <> " (TC-STMT-10)"))
+  pure ce
+
+-- | A CASE label's ordinal: the integer, or the enumerated value's position.
+labelOrdinal :: Type -> Expr -> C Integer
+labelOrdinal t e = do
+  v <- constValue (Just t) e
+  case (v, t) of
+    (VInt _ n, _) -> pure n
+    (VEnum _ n, TEnum _ vs) | Just i <- lookup (key n) (zip (map key vs) [0 ..]) -> pure i
+    _ -> failC "type-mismatch" (exprPos e) ("this CASE label does not have the selector's type " <> typeText t)
+
+-- | The target of an assignment, with the write rules: a VAR_INPUT inside its
+-- POU (TC-VAR-1), a CONSTANT (TC-VAR-18), an FB's output from outside
+-- (TC-POU-24) cannot be written.
+checkTarget :: Expr -> C (CRef, Type)
+checkTarget target = do
+  (ref, ty, access) <- checkRef target
+  case access of
+    Writable -> pure (ref, ty)
+    ReadOnly why -> failC "write-not-allowed" (exprPos target) why
+    Hidden why -> failC "write-not-allowed" (exprPos target) why
+
+data Access = Writable | ReadOnly Text | Hidden Text
+
+-- | A variable reference with its type and what may be done with it.
+checkRef :: Expr -> C (CRef, Type, Access)
+checkRef = \case
+  EVar p n -> do
+    r <- lookupName p n
+    case r of
+      Just x -> pure x
+      Nothing -> failC "undeclared-variable" p ("the variable " <> n <> " is not declared")
+  ELocated _ loc -> pure (CLocated loc (locationType loc), locationType loc, Writable)
+  EField p base f -> do
+    (ref, ty, access) <- checkRef base
+    case ty of
+      TStruct _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
+        Just t -> pure (CField ref (key f), t, access)
+        Nothing -> failC "undeclared-variable" p ("the structure " <> typeText ty <> " has no field " <> f)
+      TFB fb -> do
+        d <- fbVars fb
+        case find ((== key f) . viKey) d of
+          Nothing -> failC "undeclared-variable" p ("the function block " <> fb <> " has no variable " <> f)
+          Just v -> case viSection v of
+            SecInput -> pure (CField ref (key f), viType v, access) -- TC-POU-25
+            SecOutput -> pure (CField ref (key f), viType v, ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)"))
+            _ -> pure (CField ref (key f), viType v, Hidden ("the variable " <> f <> " is internal to the function block " <> fb <> " (TC-POU-23)"))
+      _ -> failC "type-mismatch" p (typeText ty <> " has no fields")
+  EIndex p base ixs -> do
+    (ref, ty, access) <- checkRef base
+    case ty of
+      TArray bs t -> do
+        when (length ixs /= length bs) (failC "type-mismatch" p ("the array has " <> T.pack (show (length bs)) <> " dimensions, not " <> T.pack (show (length ixs))))
+        is <- forM ixs $ \i -> do
+          ce <- checkExprAt (Just (TElem DINT)) i 
+          case baseElem (ceType ce) of
+            Just e | isAnyInt e -> pure ce
+            _ -> failC "type-mismatch" (exprPos i) "an array index is an integer (TC-TYPE-38)"
+        pure (CIndex ref is, t, access)
+      _ -> failC "type-mismatch" p (typeText ty <> " is not an array")
+  e -> failC "not-a-variable" (exprPos e) "a variable was expected here"
+
+fbVars :: Text -> C [VarInfo]
+fbVars fb = do
+  std <- asks envStd
+  varsOf <- asks envVarsOf
+  pure (maybe (fromMaybe [] (M.lookup (key fb) varsOf)) pdVars (M.lookup (key fb) std))
+
+-- | A name in a body: the function's result, a local or a global (policy
+-- @name-resolution@, TC-VAR-33), with the access rules.
+lookupName :: Pos -> Text -> C (Maybe (CRef, Type, Access))
+lookupName _ n = do
+  pol <- asks envPol
+  locals <- asks envLocals
+  globals <- asks envGlobals
+  pou <- asks envPou
+  let k = key n
+      asLocal v = case viSection v of
+        SecExternal -> asGlobalNamed v
+        _ -> Just (refOf (CLocal k) v, viType v, localAccess v)
+      asGlobalNamed v = case M.lookup (viKey v) globals of
+        Just g -> Just (refOf (CGlobal (viKey g)) g, viType g, globalAccess g)
+        Nothing -> Nothing
+      asGlobal g = (refOf (CGlobal k) g, viType g, globalAccess g)
+      refOf r v = maybe r (\l -> CLocated l (viType v)) (viAt v)
+      localAccess v
+        | viSection v == SecInput = ReadOnly ("the input " <> viName v <> " is read-only inside its own POU (TC-VAR-1)")
+        | viConstant v = ReadOnly ("the CONSTANT " <> viName v <> " cannot be written (TC-VAR-18)")
+        | otherwise = Writable
+      globalAccess g
+        | viConstant g = ReadOnly ("the CONSTANT " <> viName g <> " cannot be written (TC-VAR-18)")
+        | otherwise = Writable
+      loc = M.lookup k locals >>= asLocal
+      glob = asGlobal <$> M.lookup k globals
+  let _ = pou
+  pure $ case pNameResolution pol of
+    LocalWins -> maybe glob Just loc
+    GlobalWins -> maybe loc Just glob
+
+------------------------------------------------------------------------------
+-- Expressions
+
+-- | A checked expression and, for an untyped literal, its exact value: it
+-- takes the type of its context (TC-CONV-4).
+data Flex = Fixed | FlexInt Integer | FlexReal Rational
+
+type TExpr = (CExpr, Flex)
+
+-- | Check an expression; the expected type, when known, types untyped
+-- literals.
+checkExprAt :: Maybe Type -> Expr -> C CExpr
+checkExprAt expected e = do
+  te <- infer expected e
+  case expected of
+    Just t | isFlex te -> coerceLit t te >>= maybe (settle te) pure
+    _ -> settle te
+
+isFlex :: TExpr -> Bool
+isFlex (_, f) = case f of
+  Fixed -> False
+  _ -> True
+
+-- | An untyped literal without context: DINT (or LINT beyond its range) and
+-- LREAL.
+settle :: TExpr -> C CExpr
+settle (ce, f) = case f of
+  Fixed -> pure ce
+  FlexInt n -> pure ce {ceType = TElem (if fitInt DINT n then DINT else LINT), ceNode = CConst (VInt (if fitInt DINT n then DINT else LINT) n)}
+  FlexReal r -> pure ce {ceType = TElem LREAL, ceNode = CConst (VLReal (fromRational r))}
+
+-- | An untyped literal given a type, if the literal can have it; a literal
+-- outside the type's range is @value-out-of-limits@.
+coerceLit :: Type -> TExpr -> C (Maybe CExpr)
+coerceLit t (ce, f) = case (f, baseElem t) of
+  (FlexInt n, Just e)
+    | isInt e -> do
+        unless (fitInt e n) (failC "value-out-of-limits" (cePos ce) ("the literal " <> T.pack (show n) <> " lies outside the range of " <> elemName e))
+        pure (Just (lit e (VInt e n)))
+    | e == REAL -> pure (Just (lit e (VReal (fromInteger n))))
+    | e == LREAL -> pure (Just (lit e (VLReal (fromInteger n))))
+  (FlexReal r, Just e)
+    | e == REAL -> pure (Just (lit e (VReal (fromRational r))))
+    | e == LREAL -> pure (Just (lit e (VLReal (fromRational r))))
+  _ -> pure Nothing
+  where
+    lit e v = ce {ceType = maybe (TElem e) (const t) (subr t), ceNode = CConst v}
+    subr = \case
+      TSubrange {} -> Just ()
+      _ -> Nothing
+
+-- | The value of an expression in a context of the given type: the same
+-- type, or an implicit conversion the policy allows (TC-CONV-1, TC-CONV-3).
+assignable :: Type -> CExpr -> C CExpr
+assignable t ce
+  | sameType t (ceType ce) = pure ce
+  | otherwise = do
+      pol <- asks envPol
+      case (baseElem (ceType ce), baseElem t) of
+        (Just from, Just to) | implicitAllowed (pImplicitConversions pol) from to -> pure (CExpr (cePos ce) t (CConvert t ce))
+        _ -> failC "type-mismatch" (cePos ce) ("a value of type " <> typeText (ceType ce) <> " where " <> typeText t <> " is expected; convert it explicitly (TC-CONV-1, TC-CONV-3)")
+
+-- | Implicit widening conversions of the policy's alternatives.
+implicitAllowed :: ImplicitConversions -> Elem -> Elem -> Bool
+implicitAllowed ic from to = case ic of
+  ImplicitNone -> False
+  _ -> (from, to) `elem` widening
+  where
+    chain xs = [(a, b) | (i, a) <- zip [0 :: Int ..] xs, (j, b) <- zip [0 ..] xs, i < j]
+    widening =
+      chain [SINT, INT, DINT, LINT] ++ chain [USINT, UINT, UDINT, ULINT] ++ chain [BYTE, WORD, DWORD, LWORD]
+        ++ [(USINT, INT), (USINT, DINT), (USINT, LINT), (UINT, DINT), (UINT, LINT), (UDINT, LINT), (REAL, LREAL)]
+        ++ [(a, REAL) | a <- [SINT, INT, USINT, UINT]] ++ [(a, LREAL) | a <- [SINT, INT, DINT, USINT, UINT, UDINT]]
+
+infer :: Maybe Type -> Expr -> C TExpr
+infer expected = \case
+  ELit p l -> literal p l
+  EEnum p t v -> do
+    ty <- resolveType (TSName p t)
+    case ty of
+      TEnum _ vs | Just v' <- find ((== key v) . key) vs -> fixed p ty (CConst (VEnum (enumName ty) v'))
+      TEnum {} -> failC "undeclared-variable" p ("the enumeration " <> t <> " has no value " <> v)
+      _ -> failC "type-mismatch" p (t <> " is not an enumeration")
+  EVar p n -> do
+    r <- lookupName p n
+    case r of
+      Just (_, _, Hidden why) -> failC "read-not-allowed" p why
+      Just (ref, ty, _) -> fixed p ty (CRead ref)
+      Nothing -> enumValue p n expected
+  e@EField {} -> readRef e
+  e@EIndex {} -> readRef e
+  e@ELocated {} -> readRef e
+  EUn p UNeg (ELit _ (LInt n)) -> pure (CExpr p (TElem DINT) (CConst (VInt DINT (negate n))), FlexInt (negate n)) -- TC-LEX-27
+  EUn p UNeg (ELit _ (LReal r _)) -> pure (CExpr p (TElem LREAL) (CConst (VLReal (fromRational (negate r)))), FlexReal (negate r))
+  EUn p o a -> do
+    ca <- checkExprAt expected a
+    t <- either (failC "invalid-unary-operation" p) pure (unaryType o (ceType ca))
+    fixed p t (CUnary o ca)
+  EBin p o a b -> binaryExpr expected p o a b
+  ECall p f args -> callExpr expected p f args
+
+fixed :: Pos -> Type -> CNode -> C TExpr
+fixed p t n = pure (CExpr p t n, Fixed)
+
+enumName :: Type -> Text
+enumName = \case
+  TEnum n _ -> n
+  _ -> ""
+
+readRef :: Expr -> C TExpr
+readRef e = do
+  (ref, ty, access) <- checkRef e
+  case access of
+    Hidden why -> failC "read-not-allowed" (exprPos e) why
+    _ -> fixed (exprPos e) ty (CRead ref)
+
+-- | An unqualified enumerated value (TC-TYPE-36): the expected type's, or the
+-- only declared enumeration that has it.
+enumValue :: Pos -> Text -> Maybe Type -> C TExpr
+enumValue p n expected = do
+  types <- asks envTypes
+  locals <- asks envLocals
+  globals <- asks envGlobals
+  named <- forM (M.elems types) (\td -> resolveType (TSName (tdPos td) (tdName td)))
+  let anonymous = [viType v | v <- M.elems locals ++ M.elems globals] >>= enumsIn
+      candidates = [t | t@(TEnum _ vs) <- maybe [] enumsIn expected ++ concatMap enumsIn named ++ anonymous, key n `elem` map key vs]
+  case candidates of
+    (t@(TEnum _ vs) : rest)
+      | all (== t) rest || maybe False (`elem` enumsInM expected) (Just t) ->
+          fixed p t (CConst (VEnum (enumName t) (fromMaybe n (find ((== key n) . key) vs))))
+      | otherwise -> failC "ambiguous-name" p ("the value " <> n <> " belongs to several enumerations; write it as Type#" <> n)
+    _ -> failC "undeclared-variable" p ("the variable " <> n <> " is not declared")
+  where
+    enumsIn = \case
+      t@TEnum {} -> [t]
+      TArray _ t -> enumsIn t
+      TStruct _ fs -> concatMap (enumsIn . snd) fs
+      _ -> []
+    enumsInM = maybe [] enumsIn
+
+literal :: Pos -> Literal -> C TExpr
+literal p = \case
+  LInt n -> pure (CExpr p (TElem DINT) (CConst (VInt DINT n)), FlexInt n)
+  LReal r _ -> pure (CExpr p (TElem LREAL) (CConst (VLReal (fromRational r))), FlexReal r)
+  LBool b -> fixed p (TElem BOOL) (CConst (VBool b))
+  LString s -> fixed p (TString False (max 1 (T.length s))) (CConst (VString s))
+  LWString s -> fixed p (TString True (max 1 (T.length s))) (CConst (VString s))
+  LTime ns -> do
+    let ms = ns `quot` 1000000
+    unless (fitInt TIME ms) (failC "value-out-of-limits" p "the duration lies outside the range of TIME (TC-TYPE-19)")
+    fixed p (TElem TIME) (CConst (VTime TIME ms))
+  LDate ns -> fixed p (TElem DATE) (CConst (VDate (ns `div` 1000000)))
+  LTod ns -> fixed p (TElem TOD) (CConst (VTod (ns `div` 1000000)))
+  LDT ns -> fixed p (TElem DT) (CConst (VDT (ns `div` 1000000)))
+  LTyped t l -> do
+    ty <- resolveType (TSName p t)
+    case (baseElem ty, l) of -- TC-LEX-24
+      (Just BOOL, LInt n) | n == 0 || n == 1 -> fixed p ty (CConst (VBool (n == 1)))
+      (Just BOOL, LBool b) -> fixed p ty (CConst (VBool b))
+      (_, LInt _) -> typed ty l
+      (_, LReal _ _) -> typed ty l
+      (_, LString s) | TString {} <- ty -> fixed p ty (CConst (VString s))
+      _ -> failC "type-mismatch" p ("the literal cannot have the type " <> t)
+  where
+    typed ty l = do
+      te <- literal p l
+      r <- coerceLit ty te
+      maybe (failC "type-mismatch" p ("the literal cannot have the type " <> typeText ty)) (\c -> pure (c, Fixed)) r
+
+-- | A binary operator: untyped literals take the other operand's type, or
+-- the expected type when both are untyped.
+binaryExpr :: Maybe Type -> Pos -> BinOp -> Expr -> Expr -> C TExpr
+binaryExpr expected p o a b = do
+  pol <- asks envPol
+  let operandExpected = if o `elem` [BLt, BGt, BLe, BGe, BEq, BNe] then Nothing else expected
+  ta <- infer operandExpected a
+  tb <- infer operandExpected b
+  (ca, cb) <- case (isFlex ta, isFlex tb) of
+    (True, False) -> (,) <$> adapt (ceType (fst tb)) ta <*> pure (fst tb)
+    (False, True) -> (,) (fst ta) <$> adapt (ceType (fst ta)) tb
+    (True, True) -> case operandExpected >>= numericTarget of
+      Just t -> (,) <$> adapt t ta <*> adapt t tb
+      Nothing -> (,) <$> settle ta <*> settle tb
+    (False, False) -> pure (fst ta, fst tb)
+  (ca', cb') <- widen pol ca cb
+  case binaryType pol o (ceType ca') (ceType cb') of
+    Right t -> fixed p t (CBinary o ca' cb')
+    Left msg
+      | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
+      | otherwise -> failC "type-mismatch" p (msg <> " (TC-CONV-1: operands of one type)")
+  where
+    numericTarget t = case baseElem t of
+      Just e | isAnyNum e || isBitString e -> Just t
+      _ -> Nothing
+    -- a literal beside a TIME in * and / is a number (TC-OP-58, TC-OP-59)
+    adapt t te = case baseElem t of
+      Just e | isTimeLike e -> settle te
+      _ -> coerceLit t te >>= maybe (settle te) pure
+    widen pol ca cb
+      | sameType (ceType ca) (ceType cb) = pure (ca, cb)
+      | otherwise = case (baseElem (ceType ca), baseElem (ceType cb)) of
+          (Just x, Just y)
+            | implicitAllowed (pImplicitConversions pol) x y -> pure (CExpr (cePos ca) (ceType cb) (CConvert (ceType cb) ca), cb)
+            | implicitAllowed (pImplicitConversions pol) y x -> pure (ca, CExpr (cePos cb) (ceType ca) (CConvert (ceType ca) cb))
+          _ -> pure (ca, cb)
+
+-- | A function call in an expression: a conversion, a standard function or
+-- a user FUNCTION.
+callExpr :: Maybe Type -> Pos -> Text -> [Arg] -> C TExpr
+callExpr expected p f args
+  | key f == "SIZEOF" = case args of
+      -- TC-STR-12: the declared size in bytes, an integer of the context's type
+      [ArgPositional x] -> do
+        (ce, _) <- infer Nothing x
+        let n = sizeOf (ceType ce)
+        pure (CExpr p (TElem DINT) (CConst (VInt DINT n)), FlexInt n)
+      _ -> failC "too-many-arguments" p "SIZEOF takes one variable"
+  | key f == "TRUNC" = do
+      -- TC-CONV-7: TRUNC gives an ANY_INT; the context chooses which
+      (ce, flex) <- callStandard expected p f args
+      case expected >>= baseElem of
+        Just e | isAnyInt e, ceType ce /= TElem e -> pure (CExpr p (TElem e) (CConvert (TElem e) ce), flex)
+        _ -> pure (ce, flex)
+  | otherwise = callStandard expected p f args
+
+-- | The size in bytes of a variable of the type (TC-STR-12): C's layout
+-- without padding, a STRING[n] with its terminating NUL (TC-TYPE-24).
+sizeOf :: Type -> Integer
+sizeOf = \case
+  TElem e
+    | e == BOOL -> 1
+    | isInt e -> toInteger (intBits e `div` 8)
+    | e `elem` [LREAL, LTIME] -> 8
+    | otherwise -> 4
+  TString w n -> (if w then 2 else 1) * (toInteger n + 1)
+  TArray bs t -> product [hi - lo + 1 | (lo, hi) <- bs] * sizeOf t
+  TStruct _ fs -> sum (map (sizeOf . snd) fs)
+  TEnum _ _ -> 2
+  TSubrange e _ _ -> sizeOf (TElem e)
+  TFB _ -> 0
+  TProgram _ -> 0
+
+callStandard :: Maybe Type -> Pos -> Text -> [Arg] -> C TExpr
+callStandard expected p f args = do
+  pol <- asks envPol
+  pous <- asks envPous
+  let k = key f
+  case conversionName k of
+    Just (from, to) -> do -- TC-CONV-6
+      a <- positionalOnly
+      case a of
+        [x] -> do
+          cx <- checkExprAt (Just (TElem from)) x
+          unless (sameType (ceType cx) (TElem from)) (failC "type-mismatch" (exprPos x) (f <> " converts a " <> elemName from <> ", not a " <> typeText (ceType cx)))
+          fixed p (resultOf to cx) (CConvert (resultOf to cx) cx)
+        _ -> failC "too-many-arguments" p (f <> " takes one argument")
+    Nothing -> case M.lookup k pous of
+      Just pou
+        | pouKind pou == KFunction -> userCall pou
+        | otherwise -> failC "not-a-function" p (f <> " is not a function")
+      Nothing -> do
+        a <- positionalOnly
+        -- an expression of untyped literals in an argument takes the type
+        -- the call's context expects, as it would without the call
+        tes <- mapM (infer (expected >>= numericLike)) a
+        let nonFlex = [ceType c | (c, Fixed) <- tes]
+            candidates = [Just t | t <- take 1 nonFlex] ++ [expected >>= numericLike, Nothing]
+        r <- firstOk pol tes candidates
+        case r of
+          Just (cs, t) -> fixed p t (CStandard k cs)
+          Nothing -> do
+            cs <- mapM settle tes
+            case standardType pol k (map ceType cs) of
+              Nothing -> failC "undeclared-function" p ("the function " <> f <> " is not declared")
+              Just (Left msg) -> failC "type-mismatch" p msg
+              Just (Right t) -> fixed p t (CStandard k cs)
+  where
+    numericLike t = case baseElem t of
+      Just e | isAnyNum e || isAnyBit e -> Just t
+      _ -> Nothing
+    resultOf to cx = case (to, ceType cx) of
+      _ -> TElem to
+    positionalOnly = forM args $ \case
+      ArgPositional e -> pure e
+      ArgInput _ _ e -> pure e
+      ArgOutput ap _ _ -> failC "not-a-function-block" ap "=> binds outputs of function blocks only"
+    firstOk _ _ [] = pure Nothing
+    firstOk pol tes (c : cs) = do
+      attempt <- forM tes $ \te@(ce, _) -> case c of
+        Just t | isFlex te -> coerceLit t te
+        _ -> if isFlex te then Just <$> settle te else pure (Just ce)
+      case sequence attempt of
+        Just xs | Just (Right t) <- standardType pol (key f) (map ceType xs) -> pure (Just (xs, t))
+        _ -> firstOk pol tes cs
+    userCall pou = do
+      vars <- asks (fromMaybe [] . M.lookup (key (pouName pou)) . envVarsOf)
+      (inputs, inouts, outputs) <- bindArgs p (pouName pou) vars args
+      unless (null outputs) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")
+      let result = fromMaybe (TElem BOOL) (viType <$> find ((== key (pouName pou)) . viKey) vars)
+      fixed p result (CCall (key (pouName pou)) inputs inouts)
+
+-- | Arguments against a POU's parameters (TC-POU-11, TC-POU-33..36):
+-- positional in the order of the inputs (and in-outs), or formal; never
+-- both (TC-POU-12).
+bindArgs :: Pos -> Text -> [VarInfo] -> [Arg] -> C ([(Text, CExpr)], [(Text, CRef)], [(Text, CRef)])
+bindArgs p callee vars args = do
+  let positional = [e | ArgPositional e <- args]
+      formal = [a | a <- args, not (isPositional a)]
+      params = [v | v <- vars, viSection v `elem` [SecInput, SecInOut]]
+  when (not (null positional) && not (null formal)) $
+    failC "mixed-arguments" p ("the call of " <> callee <> " mixes formal (name := value) and positional arguments (TC-POU-12)")
+  named <-
+    if null formal
+      then do
+        when (length positional > length params) (failC "too-many-arguments" p (callee <> " takes " <> T.pack (show (length params)) <> " arguments, not " <> T.pack (show (length positional))))
+        pure (zipWith (\v e -> (viKey v, Left e)) params positional)
+      else forM formal $ \case
+        ArgInput ap n e -> case find ((== key n) . viKey) vars of
+          Just v | viSection v `elem` [SecInput, SecInOut] -> pure (viKey v, Left e)
+          _ -> failC "unknown-parameter" ap (callee <> " has no input named " <> n)
+        ArgOutput ap n e -> case find ((== key n) . viKey) vars of
+          Just v | viSection v == SecOutput -> pure (viKey v, Right e)
+          _ -> failC "unknown-parameter" ap (callee <> " has no output named " <> n)
+        ArgPositional _ -> failC "mixed-arguments" p "positional argument"
+  either throwError pure (runExcept (checkDuplicates [(p, k) | (k, _) <- named]))
+  ins <- fmap catMaybes $ forM named $ \(k, a) -> case (a, find ((== k) . viKey) vars) of
+    (Left e, Just v) | viSection v == SecInput -> do
+      ce <- checkExprAt (Just (viType v)) e >>= assignable (viType v)
+      pure (Just (k, ce))
+    _ -> pure Nothing
+  inouts <- fmap catMaybes $ forM named $ \(k, a) -> case (a, find ((== k) . viKey) vars) of
+    (Left e, Just v) | viSection v == SecInOut -> do
+      (ref, ty) <- checkTarget e
+      unless (sameType ty (viType v)) (failC "type-mismatch" (exprPos e) ("the in-out parameter " <> viName v <> " takes a variable of type " <> typeText (viType v)))
+      pure (Just (k, ref))
+    _ -> pure Nothing
+  outs <- fmap catMaybes $ forM named $ \(k, a) -> case (a, find ((== k) . viKey) vars) of
+    (Right e, Just v) -> do
+      (ref, ty) <- checkTarget e
+      unless (sameType ty (viType v)) (failC "type-mismatch" (exprPos e) ("the output " <> viName v <> " is a " <> typeText (viType v) <> ", bound to a " <> typeText ty))
+      pure (Just (k, ref))
+    _ -> pure Nothing
+  let missingInOut = [v | v <- params, viSection v == SecInOut, viKey v `notElem` map fst inouts]
+  case missingInOut of
+    (v : _) -> failC "too-few-arguments" p ("the in-out parameter " <> viName v <> " of " <> callee <> " must be given a variable")
+    [] -> pure ()
+  pure (ins, inouts, outs)
+  where
+    isPositional = \case
+      ArgPositional _ -> True
+      _ -> False
+
+-- | A call statement: an FB instance, or a function whose result is dropped.
+checkCallStmt :: Pos -> Expr -> [Arg] -> C CStmt
+checkCallStmt p callee args = do
+  pous <- asks envPous
+  case callee of
+    EVar _ n | isFunctionName pous n -> do
+      locals <- asks envLocals
+      if M.member (key n) locals
+        then fbCall
+        else do
+          (ce, _) <- callExpr Nothing p n args
+          pure (CEval p ce)
+    _ -> fbCall
+  where
+    isFunctionName pous n = case M.lookup (key n) pous of
+      Just pou -> pouKind pou == KFunction
+      Nothing -> key n `elem` standardFunctionNames || isJust (conversionName (key n))
+    fbCall = do
+      (ref, ty, _) <- checkRef callee
+      case ty of
+        TFB fb -> do
+          vars <- fbVars fb
+          (ins, inouts, outs) <- bindArgs p fb vars args
+          pure (CCallFB p (FBCall ref (key fb) ins inouts outs))
+        TProgram _ -> failC "program-call" p "a PROGRAM cannot be called from a POU (TC-POU-44)"
+        _ -> failC "not-a-function-block" (exprPos callee) ("this is not a function block instance but a " <> typeText ty)
+
+-- | TC-POU-2: no POU calls itself, directly or through others.
+checkRecursion :: [Pou] -> Except VerificationError ()
+checkRecursion pous = mapM_ visit pous
+  where
+    byKey = M.fromList [(key (pouName p), p) | p <- pous]
+    fbTypes p = M.fromList [(key n, key t) | b <- pouVars p, d <- vbDecls b, TSName _ t <- [vdType d], (_, n) <- vdNames d]
+    edges p = [(key n, pos') | (pos', n) <- calls p, M.member (key n) byKey]
+    calls p = concatMap (stmtCalls (fbTypes p)) (pouBody p)
+    visit p = go [key (pouName p)] p
+    -- a call that leads back to the POU the walk started from
+    go path p = forM_ (edges p) $ \(callee, pos') ->
+      if callee == head path
+        then throwError (VerificationError "recursive-call" pos' (pouName p <> " calls " <> callee <> ", which leads back to " <> head path <> ": POUs are not recursive (TC-POU-2)"))
+        else unless (callee `elem` path) (maybe (pure ()) (go (path ++ [callee])) (M.lookup callee byKey))
+    stmtCalls fbt = \case
+      SAssign _ a b -> exprCalls fbt a ++ exprCalls fbt b
+      SCall p (EVar _ n) args -> (p, M.findWithDefault n (key n) fbt) : concatMap (argCalls fbt) args
+      SCall _ e args -> exprCalls fbt e ++ concatMap (argCalls fbt) args
+      SIf _ arms els -> concat [exprCalls fbt c ++ concatMap (stmtCalls fbt) b | (c, b) <- arms] ++ concatMap (stmtCalls fbt) els
+      SCase _ s arms els -> exprCalls fbt s ++ concatMap (concatMap (stmtCalls fbt) . snd) arms ++ concatMap (stmtCalls fbt) els
+      SFor _ _ a b c body -> concatMap (exprCalls fbt) ([a, b] ++ maybe [] pure c) ++ concatMap (stmtCalls fbt) body
+      SWhile _ c b -> exprCalls fbt c ++ concatMap (stmtCalls fbt) b
+      SRepeat _ b c -> exprCalls fbt c ++ concatMap (stmtCalls fbt) b
+      _ -> []
+    argCalls fbt = \case
+      ArgPositional e -> exprCalls fbt e
+      ArgInput _ _ e -> exprCalls fbt e
+      ArgOutput {} -> []
+    exprCalls fbt = \case
+      ECall p n args -> (p, n) : concatMap (argCalls fbt) args
+      EUn _ _ a -> exprCalls fbt a
+      EBin _ _ a b -> exprCalls fbt a ++ exprCalls fbt b
+      EField _ a _ -> exprCalls fbt a
+      EIndex _ a is -> exprCalls fbt a ++ concatMap (exprCalls fbt) is
+      _ -> []
+
+-- | The type a direct address denotes (TC-ADDR-4, TC-ADDR-5): IEC sizes X
+-- (or none) a bit, B a byte, W a word, D a double word, L a long word;
+-- Tecomat's areas without a size prefix a byte (with a bit number, a bit)
+-- and L a 32-bit long.
+locationType :: Location -> Type
+locationType l = TElem $ case (locSize l, length (locAddress l)) of
+  ('X', _) -> BOOL
+  ('B', _) -> BYTE
+  ('W', _) -> WORD
+  ('D', _) -> DWORD
+  ('L', _) | tecomatArea -> DWORD
+  ('L', _) -> LWORD
+  (_, 2) -> BOOL
+  _ | tecomatArea -> BYTE
+  _ -> BOOL
+  where
+    tecomatArea = locArea l `elem` ("XYSR" :: String)
+

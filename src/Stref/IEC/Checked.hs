@@ -1,0 +1,119 @@
+-- | A checked IEC program: names resolved, every expression typed, untyped
+-- literals given the type of their context, initial values computed. The
+-- evaluator ("Stref.IEC.Eval") runs this, never the raw syntax.
+module Stref.IEC.Checked
+  ( Program (..)
+  , PouDef (..)
+  , Body (..)
+  , VarInfo (..)
+  , CExpr (..)
+  , CNode (..)
+  , CRef (..)
+  , CStmt (..)
+  , FBCall (..)
+  , StandardFB
+  , FBState
+  , lookupPou
+  , varByKey
+  , key
+  ) where
+
+import Data.Map.Strict (Map)
+import qualified Data.Map.Strict as M
+import Data.Text (Text)
+import qualified Data.Text as T
+import Stref.IEC.Syntax (BinOp, EdgeQualifier, Location, Pos, PouKind, Section, UnOp)
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy (Policies)
+
+-- | Names compare without case (TC-LEX-15): every map is keyed by the
+-- upper-case name.
+key :: Text -> Text
+key = T.toUpper
+
+data Program = Program
+  { prPous :: Map Text PouDef -- ^ user and standard POUs by key
+  , prGlobals :: [VarInfo] -- ^ in declaration order
+  , prInstances :: [(Text, Text)] -- ^ program instances run each cycle, in order: instance name, program type key
+  , prTaskInterval :: Maybe Integer -- ^ the interval of the configuration's task, milliseconds, if it states one
+  }
+
+-- | A declared variable.
+data VarInfo = VarInfo
+  { viName :: Text -- ^ as declared
+  , viKey :: Text
+  , viSection :: Section
+  , viType :: Type
+  , viInit :: Value -- ^ the initial value (TC-TYPE-21..23, TC-VAR-36)
+  , viConstant :: Bool
+  , viAt :: Maybe Location
+  , viEdge :: Maybe EdgeQualifier
+  , viPos :: Pos
+  }
+
+varByKey :: PouDef -> Text -> Maybe VarInfo
+varByKey p k = M.lookup k (pdVarMap p)
+
+-- | The state of a standard FB instance: its variables by key.
+type FBState = Map Text Value
+
+-- | A standard FB's meaning: the policies, the clock (milliseconds) and the
+-- instance's variables after the inputs were written, to its variables
+-- after the call.
+type StandardFB = Policies -> Integer -> FBState -> FBState
+
+data Body = Statements [CStmt] | Native StandardFB
+
+data PouDef = PouDef
+  { pdKind :: PouKind
+  , pdName :: Text
+  , pdVars :: [VarInfo] -- ^ in declaration order
+  , pdVarMap :: Map Text VarInfo
+  , pdResult :: Maybe Type
+  , pdBody :: Body
+  , pdEndPos :: Pos
+  }
+
+lookupPou :: Program -> Text -> Maybe PouDef
+lookupPou p n = M.lookup (key n) (prPous p)
+
+-- | A typed expression.
+data CExpr = CExpr {cePos :: Pos, ceType :: Type, ceNode :: CNode}
+
+data CNode
+  = CConst Value
+  | CRead CRef
+  | CUnary UnOp CExpr
+  | CBinary BinOp CExpr CExpr
+  | CConvert Type CExpr -- ^ a conversion to the node's type from the operand's
+  | CStandard Text [CExpr] -- ^ a standard function by key, its arguments in order
+  | CCall Text [(Text, CExpr)] [(Text, CRef)] -- ^ a user function: inputs by parameter key, in-outs by reference
+
+-- | A variable as the program names it.
+data CRef
+  = CLocal Text -- ^ a variable of the running POU (instance or frame)
+  | CGlobal Text
+  | CField CRef Text -- ^ a structure's field or an FB instance's variable
+  | CIndex CRef [CExpr] -- ^ an array element
+  | CLocated Location Type -- ^ a direct address read as a type
+
+data FBCall = FBCall
+  { fcInstance :: CRef
+  , fcType :: Text -- ^ the FB's key
+  , fcInputs :: [(Text, CExpr)]
+  , fcInOuts :: [(Text, CRef)]
+  , fcOutputs :: [(Text, CRef)] -- ^ @out => v@: copied after the body (TC-POU-36)
+  }
+
+data CStmt
+  = CAssign Pos CRef Type CExpr -- ^ the target's declared type decides truncation and range checks
+  | CCallFB Pos FBCall
+  | CEval Pos CExpr -- ^ a function called as a statement, its result dropped
+  | CIf Pos [(CExpr, [CStmt])] [CStmt]
+  | CCase Pos CExpr [([(Integer, Integer)], [CStmt])] [CStmt] -- ^ labels as ranges of ordinals
+  | CFor Pos CRef CExpr CExpr (Maybe CExpr) [CStmt]
+  | CWhile Pos CExpr [CStmt]
+  | CRepeat Pos [CStmt] CExpr
+  | CExit Pos
+  | CReturn Pos

@@ -1,0 +1,251 @@
+-- | The IEC model behind the engine protocol (corpus-format §4): parse and
+-- check a compilation unit, run its programs over scan cycles on the
+-- virtual clock, observe variables by path. Pure.
+module Stref.IEC.Engine
+  ( iecEngine
+  , runProgram
+  , RunResult (..)
+  , parseVarPath
+  , observedTypes
+  , valueScalar
+  , scalarValue
+  , scalarsMatch
+  , cycleMillis
+  ) where
+
+import Control.Monad (foldM)
+import Data.Char (isDigit, isSpace)
+import qualified Data.Map.Strict as M
+import Data.Maybe (mapMaybe)
+import Data.Scientific (Scientific, base10Exponent, floatingOrInteger, fromFloatDigits)
+import Data.Text (Text)
+import qualified Data.Text as T
+import Stref.Conformance.Protocol
+import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
+import Stref.IEC.Checked
+import Stref.IEC.Eval
+import Stref.IEC.Parser (parseUnit, parseUnitExpr)
+import Stref.IEC.Syntax
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy
+import Stref.Verification (VerificationError (..))
+
+-- | What a run of cycles left: the checked program, the machine after the
+-- last cycle that ran, the first runtime error with its cycle (1-based).
+data RunResult = RunResult
+  { rrProgram :: Program
+  , rrMachine :: Machine
+  , rrError :: Maybe (Int, Stop)
+  , rrCycles :: Int -- ^ cycles that ran
+  }
+
+-- | The task interval in milliseconds from a TIME literal.
+cycleMillis :: Policies -> Text -> Either Text Integer
+cycleMillis pol t = case parseUnitExpr pol t of
+  Right (ELit _ (LTime ns)) | ns > 0 -> Right (ns `div` 1000000)
+  _ -> Left ("the cycle '" <> t <> "' is not a positive TIME literal such as T#10ms")
+
+-- | Run a source over cycles; each cycle first writes its variables (paths
+-- and values), then runs the programs at clock (k-1) × cycle (§4.1). After a
+-- runtime error, policy @after-error@ decides whether later cycles run.
+runProgram :: Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [[(Text, Scalar)]] -> Either VerificationError (Either Text RunResult)
+runProgram pol file src choice cycle initial calls = do
+  unit <- parseUnit pol file src
+  prog <- checkUnit pol choice unit
+  pure $ do
+    m0 <- foldM (setPath prog) (initialMachine prog) initial
+    let go m k err [] = Right (RunResult prog m err (k - 1))
+        go m k err (sets : rest) = do
+          m1 <- foldM (setPath prog) m sets
+          let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) m1
+              err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
+          case stop of
+            Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k)
+            _ -> go m2 (k + 1) err' rest
+    go m0 1 Nothing calls
+
+-- | Write a variable or a located variable before a cycle.
+setPath :: Program -> Machine -> (Text, Scalar) -> Either Text Machine
+setPath prog m (path, s)
+  | "%" `T.isPrefixOf` path = do
+      loc <- locationOf path
+      v <- scalarValue (locationType loc) s
+      Right (writeLocatedVar loc (locationType loc) v m)
+  | otherwise = do
+      steps <- parseVarPath path
+      (_, t) <- maybe (Left ("the path " <> path <> " names no variable of the program")) Right (readVariablePath prog m steps)
+      ty <- maybe (Left ("the type of " <> path <> " is not known")) Right t
+      v <- scalarValue ty s
+      maybe (Left ("the path " <> path <> " cannot be written")) Right (writeVariablePath prog m steps v)
+
+locationOf :: Text -> Either Text Location
+locationOf t = case parseUnitExpr tecomat t of
+  Right (ELocated _ l) -> Right l
+  _ -> Left ("'" <> t <> "' is not a direct address such as %IX0.1 or %QW2")
+
+-- | @MAIN.fb.Q@, @MAIN.a[2,3]@, @G@ as steps (names upper-cased).
+parseVarPath :: Text -> Either Text [Step]
+parseVarPath t0 = go (T.strip t0)
+  where
+    bad = Left ("'" <> t0 <> "' is not a variable path such as MAIN.x, MAIN.fb.Q, MAIN.a[2,3] or G")
+    go t
+      | T.null t = Right []
+      | otherwise =
+          let (name, rest) = T.span (\c -> c == '_' || c `elem` ['a' .. 'z'] || c `elem` ['A' .. 'Z'] || isDigit c) t
+           in if T.null name then bad else (StepField (T.toUpper name) :) <$> after rest
+    after r = case T.uncons r of
+      Nothing -> Right []
+      Just ('.', r') -> go r'
+      Just ('[', r') -> case T.breakOn "]" r' of
+        (inside, close) | not (T.null close) -> do
+          is <- mapM number (T.splitOn "," inside)
+          (StepIndex is :) <$> after (T.drop 1 close)
+        _ -> bad
+      _ -> bad
+    number x = case reads (T.unpack (T.filter (not . isSpace) x)) of
+      [(n, "")] -> Right n
+      _ -> bad
+
+-- | The types of observed paths, from the checked program (the runner
+-- compares values under them: REAL as binary32, TIME by value, ...).
+observedTypes :: Policies -> Text -> Maybe Text -> [Text] -> M.Map Text Type
+observedTypes pol src program paths = case parseUnit pol "<case>" src >>= checkUnit pol (maybe ProgramsOfConfiguration ProgramNamed program) of
+  Left _ -> M.empty
+  Right prog ->
+    let m = initialMachine prog
+     in M.fromList (mapMaybe (\p -> (p,) <$> typeOf prog m p) paths)
+  where
+    typeOf prog m p
+      | "%" `T.isPrefixOf` p = either (const Nothing) (Just . locationType) (locationOf p)
+      | otherwise = either (const Nothing) Just (parseVarPath p) >>= readVariablePath prog m >>= snd
+
+-- | Answer one request of an IEC dialect.
+iecEngine :: Policies -> Request -> Answer
+iecEngine pol rq = either AnswerUnsupported id $ do
+  cycle <- cycleMillis pol (maybe "T#10ms" id (rqCycle rq))
+  let choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
+      initial = M.toList (prInit (rqPlc rq))
+      calls = [M.toList (callSet c) | c <- rqCalls rq]
+  case runProgram pol (T.unpack (rqCase rq)) (rqSource rq) choice cycle initial calls of
+    Left (VerificationError k (Pos l _) msg) -> Right (AnswerRejected (Just l) (Just k) msg)
+    Right (Left e) -> Left e
+    Right (Right r) ->
+      let vars = M.fromList [(p, s) | p <- obsVars (rqObserve rq) ++ obsOperands (rqObserve rq), Just s <- [observe r p]]
+          err = (\(_, StopFault (Pos l _) f) -> ErrorReport Nothing (Just (faultKind f)) (Just l) Nothing) <$> rrError r
+          ob = Observation M.empty vars M.empty err
+       in Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob)
+  where
+    observe r p
+      | "%" `T.isPrefixOf` p = case locationOf p of
+          Right l -> Just (valueScalar (readLocatedVar l (locationType l) (rrMachine r)))
+          Left _ -> Nothing
+      | otherwise = case parseVarPath p of
+          Right steps -> valueScalar . fst <$> readVariablePath (rrProgram r) (rrMachine r) steps
+          Left _ -> Nothing
+
+-- | A value as the protocol carries it (§4.2).
+valueScalar :: Value -> Scalar
+valueScalar = \case
+  VBool b -> SBool b
+  VInt _ n -> SNumber (fromInteger n)
+  VReal f
+    | isNaN f -> SNaN
+    | otherwise -> scalarFromFloat f
+  VLReal d
+    | isNaN d -> SNaN
+    | isInfinite d -> SText (if d > 0 then "LREAL#1.0E309" else "LREAL#-1.0E309")
+    | otherwise -> SNumber (fromFloatDigits d)
+  VArray _ xs -> SList (map valueScalar (foldr (:) [] xs))
+  VStruct fs -> SMap (M.map valueScalar fs)
+  VInstance _ fs -> SMap (M.map valueScalar (M.filterWithKey (\k _ -> not ("$" `T.isInfixOf` k)) fs))
+  v -> SText (renderValue v)
+
+-- | A protocol value as a value of the type (literals parsed as ST).
+scalarValue :: Type -> Scalar -> Either Text Value
+scalarValue ty s = case (ty, s) of
+  (TElem BOOL, SBool b) -> Right (VBool b)
+  (TElem e, SNumber n) | isInt e -> case integral n of
+    Just i | fitInt e i -> Right (VInt e i)
+    -- a bit string is a pattern: -1 and 65535 both denote WORD 16#FFFF
+    Just i | isBitString e, i < 0, i >= negate (2 ^ (intBits e - 1)) -> Right (VInt e (i + 2 ^ intBits e))
+    _ -> Left (T.pack (show n) <> " is not a value of " <> elemName e)
+  (TSubrange e _ _, SNumber n) | Just i <- integral n -> Right (VInt e i)
+  (TElem REAL, SNumber n) -> Right (VReal (scientificToFloat n))
+  (TElem LREAL, SNumber n) -> Right (VLReal (scientificToDouble n))
+  (TElem REAL, SNaN) -> Right (VReal (0 / 0))
+  (TElem LREAL, SNaN) -> Right (VLReal (0 / 0))
+  (TElem REAL, SBits w) -> Right (VReal (realFromBitsLocal w))
+  (TArray bs t, SList xs) -> VArray bs . foldr (\x acc -> x `seqCons` acc) mempty <$> mapM (scalarValue t) xs
+  (TStruct _ fs, SMap m) -> VStruct . M.fromList <$> mapM (\(k, x) -> maybe (Left ("no field " <> k)) (\t -> (T.toUpper k,) <$> scalarValue t x) (lookup (T.toUpper k) [(T.toUpper n, t) | (n, t) <- fs])) (M.toList m)
+  (_, SText t) -> literalValue ty t
+  _ -> Left ("the value does not fit the type " <> typeText ty)
+  where
+    integral n = case floatingOrInteger n :: Either Double Integer of
+      Right i | base10Exponent n < 40 -> Just i
+      _ -> Nothing
+    seqCons x acc = pure x <> acc
+    realFromBitsLocal w = realFromBitsF w
+
+realFromBitsF :: (Integral a) => a -> Float
+realFromBitsF w = case scalarToFloat (SBits (fromIntegral w)) of
+  Just f -> f
+  Nothing -> 0
+
+scientificToDouble :: Scientific -> Double
+scientificToDouble n
+  | base10Exponent n > 400 = if n > 0 then 1 / 0 else -1 / 0
+  | base10Exponent n < -400 = 0
+  | otherwise = fromRational (toRational n)
+
+-- | An ST literal of §4.2 as a value of the type.
+literalValue :: Type -> Text -> Either Text Value
+literalValue ty t = case parseUnitExpr tecomat t of
+  Left _ -> Left ("'" <> t <> "' is not an ST literal")
+  Right e -> maybe (Left ("'" <> t <> "' is not a value of " <> typeText ty)) Right (fromExpr e)
+  where
+    fromExpr = \case
+      ELit _ l -> fromLit l
+      EUn _ UNeg (ELit _ (LInt n)) -> fromLit (LInt (negate n))
+      EUn _ UNeg (ELit _ (LReal r x)) -> fromLit (LReal (negate r) x)
+      EEnum _ _ v -> enumValue v
+      EVar _ v -> enumValue v
+      _ -> Nothing
+    enumValue v = case ty of
+      TEnum n vs -> VEnum n <$> lookupCI v vs
+      _ -> Nothing
+    lookupCI v vs = case [x | x <- vs, T.toUpper x == T.toUpper v] of
+      (x : _) -> Just x
+      [] -> Nothing
+    fromLit l = case (ty, l) of
+      (TElem TIME, LTime ns) -> Just (VTime TIME (ns `quot` 1000000))
+      (TElem LTIME, LTime ns) -> Just (VTime LTIME ns)
+      (TElem DATE, LDate ns) -> Just (VDate (ns `div` 1000000))
+      (TElem TOD, LTod ns) -> Just (VTod (ns `div` 1000000))
+      (TElem DT, LDT ns) -> Just (VDT (ns `div` 1000000))
+      (TString _ _, LString s) -> Just (VString s)
+      (TString _ _, LWString s) -> Just (VString s)
+      (TElem e, LInt n) | isInt e, fitInt e n -> Just (VInt e n)
+      (TElem REAL, LReal r _) -> Just (VReal (fromRational r))
+      (TElem LREAL, LReal r _) -> Just (VLReal (fromRational r))
+      (TElem REAL, LInt n) -> Just (VReal (fromInteger n))
+      (TElem LREAL, LInt n) -> Just (VLReal (fromInteger n))
+      (TElem BOOL, LBool b) -> Just (VBool b)
+      (_, LTyped _ inner) -> fromLit inner
+      _ -> Nothing
+
+-- | Do an expected and an answered value denote the same value of the type?
+-- REAL and LREAL compare by their binary32 and binary64 values (any NaN
+-- matches NaN); times by value; enumerated values by name.
+scalarsMatch :: Type -> Scalar -> Scalar -> Bool
+scalarsMatch ty a b = case (scalarValue ty a, scalarValue ty b) of
+  (Right x, Right y) -> same x y
+  _ -> False
+  where
+    same x y = case (x, y) of
+      (VReal f, VReal g) -> (isNaN f && isNaN g) || (f == g && isNegativeZero f == isNegativeZero g)
+      (VLReal f, VLReal g) -> (isNaN f && isNaN g) || (f == g && isNegativeZero f == isNegativeZero g)
+      (VEnum _ v, VEnum _ w) -> T.toUpper v == T.toUpper w
+      (VArray _ xs, VArray _ ys) -> length xs == length ys && and (zipWith same (foldr (:) [] xs) (foldr (:) [] ys))
+      (VStruct m, VStruct n) -> M.keys m == M.keys n && and (M.elems (M.intersectionWith same m n))
+      _ -> x == y

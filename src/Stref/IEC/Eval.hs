@@ -1,0 +1,608 @@
+-- | The meaning of IEC statements, expressions and POU calls: the readable,
+-- definitional evaluator. One function per construct, each taking the
+-- policy record; the state is a tree of values (globals, program instances,
+-- function frames) and the bytes of the located variables.
+module Stref.IEC.Eval
+  ( Machine (..)
+  , initialMachine
+  , runCycle
+  , readVariablePath
+  , writeVariablePath
+  , readLocatedVar
+  , writeLocatedVar
+  , Stop (..)
+  ) where
+
+import Control.Monad (forM, forM_, unless, when)
+import Control.Monad.Except (ExceptT, catchError, runExceptT, throwError)
+import Control.Monad.Reader (ReaderT, asks, local, runReaderT)
+import Control.Monad.State.Strict (State, gets, modify', runState)
+import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.))
+import Data.List (find)
+import qualified Data.Map.Strict as M
+import Data.Maybe (fromMaybe)
+import qualified Data.Sequence as Seq
+import Data.Text (Text)
+import qualified Data.Text as T
+import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
+import Stref.IEC.Checked
+import Stref.IEC.Conversions (convert)
+import Stref.IEC.Operators (binary, unary)
+import Stref.IEC.Standard (standard)
+import Stref.IEC.Syntax (BinOp (..), EdgeQualifier (..), Location (..), Pos (..), Section (..))
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy
+
+-- | The controller's state between and during cycles.
+data Machine = Machine
+  { mGlobals :: M.Map Text Value
+  , mPrograms :: M.Map Text Value -- ^ program instances by key
+  , mFrames :: M.Map Int Value -- ^ function frames by call depth
+  , mMemory :: M.Map (Char, Integer) Integer -- ^ located bytes by area and address
+  , mClock :: Integer -- ^ the virtual clock, milliseconds
+  , mSteps :: Int -- ^ statements and loop tests executed in this cycle
+  }
+  deriving (Eq, Show)
+
+-- | How a cycle ended early.
+data Stop = StopFault Pos Fault
+  deriving (Eq, Show)
+
+data Signal = SigExit | SigReturn | SigFault Pos Fault
+
+data Ctx = Ctx
+  { cxPol :: Policies
+  , cxProgram :: Program
+  , cxSelf :: RefPath -- ^ the running POU's instance or frame
+  , cxDepth :: Int
+  }
+
+type Eval = ReaderT Ctx (ExceptT Signal (State Machine))
+
+-- | Nesting of calls beyond which a cycle ends with @call-depth@.
+maxCallDepth :: Int
+maxCallDepth = 1000
+
+-- | The state before the first cycle: every variable at its initial value
+-- (TC-VAR-35, TC-VAR-36), located variables with initial values written.
+initialMachine :: Program -> Machine
+initialMachine prog =
+  let globals = M.fromList [(viKey v, viInit v) | v <- prGlobals prog, viAt v == Nothing]
+      programs = M.fromList [(key inst, instanceOf t) | (inst, t) <- prInstances prog]
+      instanceOf t = case lookupPou prog t of
+        Just d -> VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])
+        Nothing -> VInstance t M.empty
+      located =
+        [(l, viType v, viInit v) | v <- prGlobals prog, Just l <- [viAt v]]
+          ++ [(l, viType v, viInit v) | (_, t) <- prInstances prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
+      memory = foldl (\m (l, t, v) -> writeLocated l t v m) M.empty located
+   in Machine globals programs M.empty memory 0 0
+
+-- | One scan cycle at the given clock: each program instance in order.
+runCycle :: Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
+runCycle pol prog clock m0 =
+  let m = m0 {mClock = clock, mSteps = 0, mFrames = M.empty}
+      run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
+        Just d -> local (\c -> c {cxSelf = RefPath (RootProgram (key inst)) []}) (callBody d)
+        Nothing -> pure ()
+      ctx = Ctx pol prog (RefPath (RootProgram "") []) 0
+      (r, m') = runState (runExceptT (runReaderT run ctx)) m
+   in case r of
+        Left (SigFault p f) -> (m', Just (StopFault p f))
+        _ -> (m', Nothing)
+
+fault :: Pos -> Fault -> Eval a
+fault p f = throwError (SigFault p f)
+
+orFault :: Pos -> Either Fault a -> Eval a
+orFault p = either (fault p) pure
+
+-- | One step of the watchdog's budget (TC-ERR-1, TC-STMT-34).
+tick :: Pos -> Eval ()
+tick p = do
+  budget <- asks (pStepBudget . cxPol)
+  n <- gets mSteps
+  when (n >= budget) $ fault p (Fault "watchdog" ("the cycle ran more than " <> T.pack (show budget) <> " steps: the watchdog ends it (cycle error, TC-ERR-1)"))
+  modify' (\m -> m {mSteps = n + 1})
+
+------------------------------------------------------------------------------
+-- POU calls
+
+-- | Run a POU's body in the current context: VAR_TEMP starts afresh
+-- (TC-VAR-8); RETURN ends the body (TC-STMT-38).
+callBody :: PouDef -> Eval ()
+callBody d = do
+  self <- asks cxSelf
+  forM_ [v | v <- pdVars d, viSection v == SecTemp] $ \v -> putPath (extend self (StepField (viKey v))) (viInit v)
+  case pdBody d of
+    Statements ss -> execBlock ss `catchError` \case
+      SigReturn -> pure ()
+      SigExit -> pure ()
+      e -> throwError e
+    Native f -> do
+      pol <- asks cxPol
+      clock <- gets mClock
+      inst <- getPath self
+      case inst of
+        VInstance n vars -> putPath self (VInstance n (f pol clock vars))
+        _ -> pure ()
+
+extend :: RefPath -> Step -> RefPath
+extend (RefPath r steps) s = RefPath r (steps ++ [s])
+
+-- | An FB call (TC-POU-33..36): inputs written (unassigned ones keep their
+-- values, TC-POU-35), in-outs bound, the body run on the instance, then the
+-- outputs copied to their @=>@ targets.
+callFB :: Pos -> FBCall -> Eval ()
+callFB p c = do
+  prog <- asks cxProgram
+  d <- maybe (fault p (Fault "call-depth" ("unknown function block " <> fcType c))) pure (lookupPou prog (fcType c))
+  inputs <- forM (fcInputs c) $ \(k, e) -> (k,) <$> eval e
+  inouts <- forM (fcInOuts c) $ \(k, r) -> (k,) <$> refPath p r
+  inst <- refPath p (fcInstance c)
+  forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend inst (StepField k)) v
+  forM_ inouts $ \(k, r) -> putPath (extend inst (StepField k)) (VRef r)
+  edgeInputs d inst (map fst inputs)
+  depth <- asks cxDepth
+  when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  local (\cx -> cx {cxSelf = inst, cxDepth = depth + 1}) (callBody d)
+  forM_ (fcOutputs c) $ \(k, r) -> do
+    v <- getPath (extend inst (StepField k))
+    target <- refPath p r
+    storeRef p r target v
+
+paramType :: PouDef -> Text -> Type
+paramType d k = maybe (TElem BOOL) viType (varByKey d k)
+
+-- | R_EDGE / F_EDGE inputs (TC-POU-29): the body sees the edge of the
+-- input's last assigned value, as an implicit R_TRIG / F_TRIG would give.
+edgeInputs :: PouDef -> RefPath -> [Text] -> Eval ()
+edgeInputs d inst assigned = do
+  pol <- asks cxPol
+  forM_ [(v, q) | v <- pdVars d, Just q <- [viEdge v]] $ \(v, q) -> do
+    let field = extend inst (StepField (viKey v))
+        rawField = extend inst (StepField (viKey v <> "$RAW"))
+        memField = extend inst (StepField (viKey v <> "$M"))
+    raw <-
+      if viKey v `elem` assigned
+        then asBool <$> getPath field
+        else asBool <$> getPathOr rawField (VBool False)
+    m <- asBool <$> getPathOr memField (VBool (q == FEdge && pFTrigInitial pol == FTrigTrue))
+    let (out, m') = case q of
+          REdge -> (raw && not m, raw)
+          FEdge -> (not raw && not m, not raw)
+    putPath rawField (VBool raw)
+    putPath memField (VBool m')
+    putPath field (VBool out)
+
+asBool :: Value -> Bool
+asBool = \case
+  VBool b -> b
+  _ -> False
+
+-- | A function call (TC-POU-5, TC-POU-6): a fresh frame with the initial
+-- values (inputs not given keep their defaults, TC-POU-9), the body, the
+-- value of the variable named like the function (TC-STMT-8; unassigned: the
+-- type's default, TC-STMT-40).
+callFunction :: Pos -> Text -> [(Text, CExpr)] -> [(Text, CRef)] -> Eval Value
+callFunction p f ins inouts = do
+  prog <- asks cxProgram
+  d <- maybe (fault p (Fault "call-depth" ("unknown function " <> f))) pure (lookupPou prog f)
+  inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
+  refs <- forM inouts $ \(k, r) -> (k,) <$> refPath p r
+  depth <- asks cxDepth
+  when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  let frame = RefPath (RootFrame (depth + 1)) []
+  modify' (\m -> m {mFrames = M.insert (depth + 1) (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])) (mFrames m)})
+  forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend frame (StepField k)) v
+  forM_ refs $ \(k, r) -> putPath (extend frame (StepField k)) (VRef r)
+  local (\cx -> cx {cxSelf = frame, cxDepth = depth + 1}) (callBody d)
+  result <- getPath (extend frame (StepField (key (pdName d))))
+  modify' (\m -> m {mFrames = M.delete (depth + 1) (mFrames m)})
+  pure result
+
+------------------------------------------------------------------------------
+-- Statements (TC-STMT-*)
+
+execBlock :: [CStmt] -> Eval ()
+execBlock = mapM_ exec
+
+exec :: CStmt -> Eval ()
+exec = \case
+  CAssign p r t e -> do
+    -- TC-STMT-7
+    tick p
+    v <- eval e
+    target <- refPath p r
+    storeTarget p t r target v
+  CCallFB p c -> tick p >> callFB p c
+  CEval p e -> tick p >> () <$ eval e
+  CIf p arms els -> do
+    -- TC-STMT-9
+    tick p
+    let go [] = execBlock els
+        go ((c, b) : rest) = do
+          v <- eval c
+          if asBool v then execBlock b else go rest
+    go arms
+  CCase p sel arms els -> do
+    -- TC-STMT-11..13: the first group whose labels hold the value
+    tick p
+    v <- eval sel
+    let o = ordinal (ceType sel) v
+    case find (\(ranges, _) -> any (\(lo, hi) -> o >= lo && o <= hi) ranges) arms of
+      Just (_, b) -> execBlock b
+      Nothing -> execBlock els
+  CFor p r start end step body -> forLoop p r start end step body
+  CWhile p c body -> do
+    -- TC-STMT-32
+    let loop = do
+          tick p
+          v <- eval c
+          when (asBool v) $ do
+            continue <- loopBody body
+            when continue loop
+    loop
+  CRepeat p body c -> do
+    -- TC-STMT-33: at least once, until the condition holds
+    let loop = do
+          continue <- loopBody body
+          when continue $ do
+            tick p
+            v <- eval c
+            unless (asBool v) loop
+    loop
+  CExit p -> tick p >> throwError SigExit
+  CReturn p -> tick p >> throwError SigReturn
+
+-- | A loop body; False when EXIT left the loop (TC-STMT-36, TC-STMT-37).
+loopBody :: [CStmt] -> Eval Bool
+loopBody body = (True <$ execBlock body) `catchError` \case
+  SigExit -> pure False
+  e -> throwError e
+
+ordinal :: Type -> Value -> Integer
+ordinal t v = case (v, t) of
+  (VInt _ n, _) -> n
+  (VEnum _ n, TEnum _ vs) -> maybe (-1) fst (find ((== key n) . key . snd) (zip [0 ..] vs))
+  _ -> -1
+
+-- | FOR (TC-STMT-18..31): the control variable starts at the initial value;
+-- before each iteration it is compared with the final value, upwards for a
+-- non-negative step, downwards for a negative one (TC-STMT-21, TC-STMT-23);
+-- after the body the step is added. Policy @for-bounds@: the final value and
+-- the step are evaluated once, before the loop, or each where it is used
+-- (the end and the step at every test, the step again at every increment,
+-- as C's @for@ does). Where the addition leaves the type, @for-at-type-max@
+-- decides: stop, or follow the overflow policy (a wrap can make the loop
+-- endless: the watchdog).
+forLoop :: Pos -> CRef -> CExpr -> CExpr -> Maybe CExpr -> [CStmt] -> Eval ()
+forLoop p r start end step body = do
+  pol <- asks cxPol
+  let t = ceType start
+      stepOf = maybe (pure (VInt (fromMaybe DINT (baseElem t)) 1)) eval step -- TC-STMT-22
+  s0 <- eval start
+  target <- refPath p r
+  storeTarget p t r target s0
+  e0 <- eval end
+  st0 <- stepOf
+  let current once expr = case pForBounds pol of
+        ForOnce -> pure once
+        ForEveryIteration -> expr
+      loop = do
+        tick p
+        e <- current e0 (eval end)
+        st <- current st0 stepOf
+        i <- getRef p r target
+        let n = intOf i
+            goOn = if intOf st >= 0 then n <= intOf e else n >= intOf e
+        when goOn $ do
+          continue <- loopBody body
+          when continue $ do
+            i' <- getRef p r target
+            stNow <- current st0 stepOf
+            let elemT = fromMaybe DINT (valueElem i')
+                next = intOf i' + intOf stNow
+            if not (fitInt elemT next) && pForAtTypeMax pol == StopAtEnd
+              then pure ()
+              else do
+                v <- orFault p (binary pol BAdd i' (VInt elemT (intOf stNow)))
+                storeTarget p t r target v
+                loop
+  loop
+  where
+    intOf = \case
+      VInt _ n -> n
+      _ -> 0
+
+------------------------------------------------------------------------------
+-- Expressions
+
+eval :: CExpr -> Eval Value
+eval ce = case ceNode ce of
+  CConst v -> pure v
+  CRead r -> do
+    path <- refPath (cePos ce) r
+    getRef (cePos ce) r path
+  CUnary o a -> do
+    pol <- asks cxPol
+    v <- eval a
+    orFault (cePos ce) (unary pol o v)
+  CBinary o a b -> do
+    pol <- asks cxPol
+    x <- eval a
+    -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first
+    case (o, x, pShortCircuit pol) of
+      (BAnd, VBool False, ShortCircuit) -> pure x
+      (BOr, VBool True, ShortCircuit) -> pure x
+      _ -> do
+        y <- eval b
+        orFault (cePos ce) (binary pol o x y)
+  CConvert t a -> do
+    pol <- asks cxPol
+    v <- eval a
+    orFault (cePos ce) (convert pol (ceType a) t v)
+  CStandard f args -> do
+    pol <- asks cxPol
+    vs <- mapM eval args
+    orFault (cePos ce) (standard pol f (map ceType args) vs)
+  CCall f ins inouts -> callFunction (cePos ce) f ins inouts
+
+------------------------------------------------------------------------------
+-- Variables
+
+-- | Where a reference lies now: indices evaluated and checked (policy
+-- @index-out-of-range@), VAR_IN_OUT parameters followed to the caller's
+-- variable.
+refPath :: Pos -> CRef -> Eval RefPath
+refPath p = \case
+  CLocal k -> do
+    self <- asks cxSelf
+    follow (extend self (StepField k))
+  CGlobal k -> pure (RefPath (RootGlobal k) [])
+  CField r f -> do
+    base <- refPath p r
+    follow (extend base (StepField f))
+  CIndex r ixs -> do
+    base <- refPath p r
+    arr <- getPath base
+    is <- mapM eval ixs
+    let ns = [n | VInt _ n <- is]
+    case arr of
+      VArray bs _ -> do
+        pol <- asks cxPol
+        checked <- forM (zip ns bs) $ \(n, (lo, hi)) ->
+          if n >= lo && n <= hi
+            then pure n
+            else case pIndexOutOfRange pol of
+              IndexClamp -> pure (max lo (min hi n))
+              _ -> fault p (Fault "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside the bounds " <> T.pack (show lo) <> ".." <> T.pack (show hi)))
+        pure (extend base (StepIndex checked))
+      _ -> pure (extend base (StepIndex ns))
+  CLocated l _ -> pure (RefPath (RootLocated (locText l)) [])
+  where
+    follow path = do
+      v <- getPathOr path (VBool False)
+      case v of
+        VRef r -> pure r
+        _ -> pure path
+
+-- | Read a reference (located variables from the bytes).
+getRef :: Pos -> CRef -> RefPath -> Eval Value
+getRef _ r path = case r of
+  CLocated l t -> gets (readLocated l t . mMemory)
+  _ -> getPath path
+
+-- | Store into a target of a declared type: strings cut to their capacity
+-- (policy @string-overflow@), subranges checked (policy @subrange@).
+storeTarget :: Pos -> Type -> CRef -> RefPath -> Value -> Eval ()
+storeTarget p t r path v = do
+  v' <- fitValue p t v
+  case r of
+    CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v' (mMemory m)})
+    _ -> putPath path v'
+
+storeRef :: Pos -> CRef -> RefPath -> Value -> Eval ()
+storeRef _ r path v = do
+  t <- case r of
+    CLocated _ t -> pure t
+    _ -> pure (TElem BOOL)
+  case r of
+    CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v (mMemory m)})
+    _ -> putPath path v
+
+storePath :: Pos -> Type -> RefPath -> Value -> Eval ()
+storePath p t path v = fitValue p t v >>= putPath path
+
+fitValue :: Pos -> Type -> Value -> Eval Value
+fitValue p t v = do
+  pol <- asks cxPol
+  case (t, v) of
+    (TString _ cap, VString s)
+      | T.length s > cap -> case pStringOverflow pol of
+          StringTruncate -> pure (VString (T.take cap s)) -- TC-TYPE-27
+          StringOverflowError -> fault p (Fault "index-out-of-range" ("a string of " <> T.pack (show (T.length s)) <> " characters does not fit a STRING[" <> T.pack (show cap) <> "]"))
+    -- a value computed wider than its type (arith-width = promote-32) is
+    -- narrowed on the store, by the policy narrow-int
+    (TElem e, VInt _ n)
+      | isInt e && not (fitInt e n) -> pure (VInt e (case pNarrowInt pol of
+          NarrowWrap -> wrapInt e n
+          NarrowSaturate -> let (lo, hi) = intRange e in max lo (min hi n)))
+    (TSubrange _ lo hi, VInt _ n)
+      | (n < lo || n > hi) && pSubrange pol == SubrangeError ->
+          fault p (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)"))
+    _ -> pure v
+
+rootValue :: Root -> Machine -> Maybe Value
+rootValue r m = case r of
+  RootGlobal k -> M.lookup k (mGlobals m)
+  RootProgram k -> M.lookup k (mPrograms m)
+  RootFrame d -> M.lookup d (mFrames m)
+  RootLocated _ -> Nothing
+
+setRoot :: Root -> Value -> Machine -> Machine
+setRoot r v m = case r of
+  RootGlobal k -> m {mGlobals = M.insert k v (mGlobals m)}
+  RootProgram k -> m {mPrograms = M.insert k v (mPrograms m)}
+  RootFrame d -> m {mFrames = M.insert d v (mFrames m)}
+  RootLocated _ -> m
+
+getPath :: RefPath -> Eval Value
+getPath path = getPathOr path (VBool False)
+
+getPathOr :: RefPath -> Value -> Eval Value
+getPathOr (RefPath r steps) dflt = gets (\m -> fromMaybe dflt (rootValue r m >>= walk steps))
+
+walk :: [Step] -> Value -> Maybe Value
+walk [] v = Just v
+walk (s : rest) v = case (s, v) of
+  (StepField f, VStruct fs) -> M.lookup f fs >>= walk rest
+  (StepField f, VInstance _ fs) -> M.lookup f fs >>= walk rest
+  (StepIndex is, VArray bs xs) -> Seq.lookup (linearIndex bs is) xs >>= walk rest
+  _ -> Nothing
+
+putPath :: RefPath -> Value -> Eval ()
+putPath (RefPath r steps) v = modify' $ \m -> case rootValue r m of
+  Just root -> setRoot r (update steps root) m
+  Nothing -> m
+  where
+    update [] _ = v
+    update (s : rest) old = case (s, old) of
+      (StepField f, VStruct fs) -> VStruct (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
+      (StepField f, VInstance n fs) -> VInstance n (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
+      (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+      _ -> old
+
+-- | TC-TYPE-43: the rightmost index varies fastest.
+linearIndex :: [(Integer, Integer)] -> [Integer] -> Int
+linearIndex bs is = fromInteger (foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1) + (i - lo)) 0 (zip bs is))
+
+------------------------------------------------------------------------------
+-- Located variables (TC-ADDR-*): bytes of the areas I (= X), Q (= Y), M (=
+-- R) and S, multi-byte values little-endian (docs/tecomat.md)
+
+areaOf :: Char -> Char
+areaOf = \case
+  'X' -> 'I'
+  'Y' -> 'Q'
+  'R' -> 'M'
+  c -> c
+
+-- | The first byte, the bit (for a bit) and the width in bytes.
+placeOf :: Location -> Type -> (Char, Integer, Maybe Int, Int)
+placeOf l t = case (t, locAddress l) of
+  (TElem BOOL, [b, bit]) -> (area, b, Just (fromInteger bit), 1)
+  (TElem BOOL, [n]) -> (area, n `div` 8, Just (fromInteger (n `mod` 8)), 1)
+  (_, a : _) -> (area, a, Nothing, width)
+  _ -> (area, 0, Nothing, width)
+  where
+    area = areaOf (locArea l)
+    width = case baseElem t of
+      Just e | isInt e -> intBits e `div` 8
+      Just REAL -> 4
+      Just LREAL -> 8
+      Just TIME -> 4
+      _ -> 1
+
+readLocated :: Location -> Type -> M.Map (Char, Integer) Integer -> Value
+readLocated l t mem =
+  let (area, a, bit, width) = placeOf l t
+      byte i = M.findWithDefault 0 (area, a + toInteger i) mem
+      raw = sum [byte i `shiftL` (8 * i) | i <- [0 .. width - 1]]
+   in case (baseElem t, bit) of
+        (Just BOOL, Just b) -> VBool (testBit (byte (0 :: Int)) b)
+        (Just REAL, _) -> VReal (castWord32ToFloat (fromInteger raw))
+        (Just LREAL, _) -> VLReal (castWord64ToDouble (fromInteger raw))
+        (Just TIME, _) -> VTime TIME (wrapInt TIME raw)
+        (Just BOOL, Nothing) -> VBool (raw /= 0)
+        (Just e, _) -> VInt e (wrapInt e raw)
+        _ -> defaultValue t
+
+writeLocated :: Location -> Type -> Value -> M.Map (Char, Integer) Integer -> M.Map (Char, Integer) Integer
+writeLocated l t v mem =
+  let (area, a, bit, width) = placeOf l t
+      raw = case v of
+        VInt _ n -> n
+        VBool b -> if b then 1 else 0
+        VReal f -> toInteger (castFloatToWord32 f)
+        VLReal d -> toInteger (castDoubleToWord64 d)
+        VTime _ n -> n
+        _ -> 0
+      unsignedRaw = raw `mod` (2 ^ (8 * width))
+   in case bit of
+        Just b ->
+          let old = M.findWithDefault 0 (area, a) mem
+           in M.insert (area, a) (if raw /= 0 then setBit old b else clearBit old b) mem
+        Nothing -> foldl (\m i -> M.insert (area, a + toInteger i) ((unsignedRaw `shiftR` (8 * i)) .&. 255) m) mem [0 .. width - 1]
+
+------------------------------------------------------------------------------
+-- Observation
+
+-- | The value at a variable path of corpus-format §4.1: @G@, @MAIN.x@,
+-- @MAIN.fb.Q@, @MAIN.a[2,3]@, @MAIN.r.f@; located variables read from their
+-- bytes. Nothing when the path names nothing.
+readVariablePath :: Program -> Machine -> [Step] -> Maybe (Value, Maybe Type)
+readVariablePath prog m = \case
+  StepField first : rest
+    | Just inst <- M.lookup first (mPrograms m) -> do
+        (_, t) <- find ((== first) . key . fst) (prInstances prog)
+        d <- lookupPou prog t
+        fromInstance d inst rest
+    | otherwise -> case find ((== first) . viKey) (prGlobals prog) of
+        Just v | Just l <- viAt v, null rest -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
+        Just v -> (,Nothing) <$> (M.lookup first (mGlobals m) >>= walkFollow rest) >>= \(x, _) -> Just (x, typeAt (viType v) rest)
+        Nothing -> Nothing
+  _ -> Nothing
+  where
+    fromInstance d inst rest = case rest of
+      StepField k : more | Just v <- varByKey d k, Just l <- viAt v, null more -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
+      StepField k : more | Just v <- varByKey d k -> do
+        x <- walkFollow rest inst
+        pure (x, typeAt (viType v) more)
+      _ -> (,Nothing) <$> walkFollow rest inst
+    walkFollow steps v = case walk steps v of
+      Just (VRef (RefPath r s)) -> rootValue r m >>= walk s
+      x -> x
+    typeAt t = \case
+      [] -> Just t
+      StepField f : more -> case t of
+        TStruct _ fs -> lookup f [(key n, ft) | (n, ft) <- fs] >>= \ft -> typeAt ft more
+        TFB n -> lookupPou prog n >>= \d -> varByKey d f >>= \v -> typeAt (viType v) more
+        _ -> Nothing
+      StepIndex _ : more -> case t of
+        TArray _ et -> typeAt et more
+        _ -> Nothing
+
+-- | Write a variable at a path before a cycle (the corpus's @set@, §4.1).
+writeVariablePath :: Program -> Machine -> [Step] -> Value -> Maybe Machine
+writeVariablePath prog m steps v = case steps of
+  StepField first : rest
+    | M.member first (mPrograms m) -> located first rest (RefPath (RootProgram first) rest)
+    | Just g <- find ((== first) . viKey) (prGlobals prog) -> case viAt g of
+        Just l | null rest -> Just (writeLocatedVar l (viType g) v m)
+        _ -> put (RefPath (RootGlobal first) rest)
+  _ -> Nothing
+  where
+    located inst rest path = do
+      (_, t) <- find ((== inst) . key . fst) (prInstances prog)
+      d <- lookupPou prog t
+      case rest of
+        [StepField k] | Just var <- varByKey d k, Just l <- viAt var -> Just (writeLocatedVar l (viType var) v m)
+        _ -> put path
+    put (RefPath r s) = do
+      root <- rootValue r m
+      _ <- walk s root
+      Just (setRoot r (update s root) m)
+    update [] _ = v
+    update (st : rest) old = case (st, old) of
+      (StepField f, VStruct fs) -> VStruct (M.adjust (update rest) f fs)
+      (StepField f, VInstance n fs) -> VInstance n (M.adjust (update rest) f fs)
+      (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+      _ -> old
+
+readLocatedVar :: Location -> Type -> Machine -> Value
+readLocatedVar l t m = readLocated l t (mMemory m)
+
+writeLocatedVar :: Location -> Type -> Value -> Machine -> Machine
+writeLocatedVar l t v m = m {mMemory = writeLocated l t v (mMemory m)}

@@ -1,0 +1,748 @@
+{-# LANGUAGE MultiWayIf #-}
+
+-- | The parser of an IEC 61131-3 compilation unit (Tecomat manual §3; IEC
+-- 61131-3 ed.2 Annex B). Pure and total: every problem is a
+-- 'VerificationError' with a stable kind, a position and a message.
+--
+-- Lexical choices that differ between dialects come from the policy record
+-- (nested comments, identifier length); the grammar is one.
+module Stref.IEC.Parser
+  ( parseUnit
+  , parseUnitExpr
+  , keywords
+  ) where
+
+import Control.Monad (void, when)
+import Data.Char (chr, digitToInt, isAlpha, isAscii, isAsciiLower, isAsciiUpper, isDigit, isHexDigit, isSpace)
+import qualified Data.List.NonEmpty as NE
+import Data.Maybe (fromMaybe, isJust)
+import qualified Data.Set as Set
+import Data.Text (Text)
+import qualified Data.Text as T
+import Stref.IEC.Syntax
+import Stref.Policy (IdentifierLength (..), NestedComments (..), Policies (..))
+import Stref.Verification (VerificationError (..))
+import Text.Megaparsec hiding (Pos)
+import Text.Megaparsec.Char (char, string, string')
+
+data Issue = Issue Text Text -- kind, message
+  deriving (Eq, Ord, Show)
+
+instance ShowErrorComponent Issue where
+  showErrorComponent (Issue k m) = T.unpack (k <> ": " <> m)
+
+type Parser = Parsec Issue Text
+
+-- | Parse a whole compilation unit.
+parseUnit :: Policies -> FilePath -> Text -> Either VerificationError Unit
+parseUnit pol file src = runP pol file src (sc pol *> (Unit <$> many (decl pol)) <* eofP)
+
+-- | One expression (for @stref eval@ and the tests).
+parseUnitExpr :: Policies -> Text -> Either VerificationError Expr
+parseUnitExpr pol src = runP pol "<expression>" src (sc pol *> expr pol <* eofP)
+
+eofP :: Parser ()
+eofP = eof <?> "the end of the file"
+
+runP :: Policies -> FilePath -> Text -> Parser a -> Either VerificationError a
+runP _ file src p = case runParser p file src of
+  Right x -> Right x
+  Left bundle -> Left (toError src (NE.head (bundleErrors bundle)))
+
+toError :: Text -> ParseError Text Issue -> VerificationError
+toError src = \case
+  FancyError off xs -> case [i | ErrorCustom i <- Set.toList xs] of
+    (Issue k m : _) -> VerificationError k (posAt src off) m
+    [] -> VerificationError "unexpected" (posAt src off) (T.intercalate "; " [T.pack m | ErrorFail m <- Set.toList xs])
+  TrivialError off _ expected ->
+    let labels = [render i | i <- Set.toList expected]
+     in VerificationError "expected-token" (posAt src off) ("expected " <> orList labels <> " instead of " <> describe (T.drop off src))
+  where
+    render = \case
+      Label cs -> T.pack (NE.toList cs)
+      Tokens cs -> "'" <> T.pack (NE.toList cs) <> "'"
+      EndOfInput -> "the end of the file"
+    orList = \case
+      [] -> "something else"
+      [x] -> x
+      xs -> T.intercalate ", " (init xs) <> " or " <> last xs
+    describe rest = case T.uncons rest of
+      Nothing -> "the end of the file"
+      Just (c, r)
+        | isWordChar c -> "'" <> T.cons c (T.takeWhile isWordChar r) <> "'"
+        | otherwise -> "'" <> T.singleton c <> "'"
+
+posAt :: Text -> Int -> Pos
+posAt src off =
+  let before = T.take off src
+   in Pos (1 + T.count "\n" before) (1 + T.length (T.takeWhileEnd (/= '\n') before))
+
+failAt :: Int -> Text -> Text -> Parser a
+failAt off k m = region (setErrorOffset off) (customFailure (Issue k m))
+
+pos :: Parser Pos
+pos = do
+  sp <- getSourcePos
+  pure (Pos (unPos (sourceLine sp)) (unPos (sourceColumn sp)))
+
+------------------------------------------------------------------------------
+-- Lexical elements (TC-LEX-*)
+
+isWordChar :: Char -> Bool
+isWordChar c = isAsciiUpper c || isAsciiLower c || isDigit c || c == '_'
+
+-- | White space and comments (TC-LEX-5..9): @(* *)@, nested only under
+-- @nested-comments = yes@; @//@ to the end of the line.
+sc :: Policies -> Parser ()
+sc pol = skipMany (void (takeWhile1P (Just "white space") isSpace) <|> blockComment <|> lineComment)
+  where
+    lineComment = try (string "//") *> void (takeWhileP Nothing (/= '\n'))
+    blockComment = do
+      off <- getOffset
+      _ <- try (string "(*")
+      body off
+    body off = do
+      done <- atEnd
+      when done (failAt off "comment-not-closed" "this comment is never closed by *)")
+      choice
+        [ void (try (string "*)"))
+        , try (string "(*") *> (if pNestedComments pol == Nesting then body off *> body off else body off)
+        , anySingle *> body off
+        ]
+
+lexeme :: Policies -> Parser a -> Parser a
+lexeme pol p = p <* sc pol
+
+symbol :: Policies -> Text -> Parser ()
+symbol pol t = lexeme pol (void (string t)) <?> ("'" <> T.unpack t <> "'")
+
+-- | A keyword, in any case (TC-LEX-2), not followed by a word character.
+kw :: Policies -> Text -> Parser ()
+kw pol w = lexeme pol (try (string' w *> notFollowedBy (satisfy isWordChar))) <?> T.unpack w
+
+-- | The keywords, which no user name may take (TC-LEX-1).
+keywords :: Set.Set Text
+keywords =
+  Set.fromList
+    [ "ACTION", "AND", "ARRAY", "AT", "BY", "CASE", "CONFIGURATION", "CONSTANT", "DO", "ELSE", "ELSIF", "END_ACTION", "END_CASE"
+    , "END_CONFIGURATION", "END_FOR", "END_FUNCTION", "END_FUNCTION_BLOCK", "END_IF", "END_PROGRAM", "END_REPEAT", "END_RESOURCE"
+    , "END_STRUCT", "END_TYPE", "END_VAR", "END_WHILE", "EXIT", "FALSE", "F_EDGE", "FOR", "FUNCTION", "FUNCTION_BLOCK", "IF"
+    , "MOD", "NOT", "OF", "ON", "OR", "PROGRAM", "R_EDGE", "REPEAT", "RESOURCE", "RETAIN", "NON_RETAIN", "RETURN", "STRUCT", "TASK", "THEN", "TO"
+    , "TRUE", "TYPE", "UNTIL", "VAR", "VAR_ACCESS", "VAR_CONFIG", "VAR_EXTERNAL", "VAR_GLOBAL", "VAR_INPUT", "VAR_IN_OUT", "VAR_OUTPUT"
+    , "VAR_TEMP", "WHILE", "WITH", "XOR", "STRING", "WSTRING"
+    ]
+
+-- | An identifier (TC-LEX-11..19): letters, digits and single underscores,
+-- not starting with a digit; a national letter or a doubled underscore is
+-- @invalid-identifier@.
+identifier :: Policies -> Parser (Pos, Name)
+identifier pol = lexeme pol $ do
+  off <- getOffset
+  p <- pos
+  w <- lookAhead (takeWhileP Nothing (\c -> isWordChar c || (isAlpha c && not (isAscii c))))
+  let invalid msg = takeP Nothing (T.length w) *> failAt off "invalid-identifier" msg
+  case T.uncons w of
+    Nothing -> empty <?> "a name"
+    Just (c, _)
+      | isDigit c && T.any isAlpha w && not (T.any (not . isAscii) w) && T.all isWordChar w && not (isNumberText w) ->
+          invalid ("the name '" <> w <> "' starts with a digit; a name starts with a letter or an underscore (TC-LEX-11)")
+      | isDigit c -> empty <?> "a name"
+      | T.any (\x -> isAlpha x && not (isAscii x)) w ->
+          invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only (TC-LEX-12)")
+      | "__" `T.isInfixOf` w ->
+          invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed (TC-LEX-14)")
+      | T.toUpper w `Set.member` keywords -> empty <?> "a name"
+      | otherwise -> do
+          _ <- takeP Nothing (T.length w)
+          pure (p, significant w)
+  where
+    -- TC-LEX-16: only the first characters count (policy identifier-length)
+    significant w = case pIdentifierLength pol of
+      Significant n -> T.take n w
+      Unlimited -> w
+    -- 2E5 and 1E3 are numbers, not names
+    isNumberText w = case T.span isDigit w of
+      (_, rest) -> T.toUpper (T.take 1 rest) == "E" && T.all isDigit (T.drop 1 rest) && T.length rest > 1
+
+name :: Policies -> Parser Name
+name pol = snd <$> identifier pol
+
+-- | Digits of a base with single underscores between them (TC-LEX-21).
+digitsIn :: Int -> Parser Text
+digitsIn base = do
+  first <- satisfy (isDigitIn base) <?> "a digit"
+  rest <- many (try (optional (char '_') *> satisfy (isDigitIn base)))
+  pure (T.pack (first : rest))
+  where
+    isDigitIn b c = isHexDigit c && digitToInt c < b
+
+readIn :: Int -> Text -> Integer
+readIn base = T.foldl' (\acc c -> acc * toInteger base + toInteger (digitToInt c)) 0
+
+-- | Integer and real literals (TC-LEX-20..23).
+number :: Policies -> Parser Literal
+number pol = lexeme pol $ do
+  intPart <- digitsIn 10
+  based <- optional (try (char '#' *> lookAhead (satisfy isHexDigit)))
+  case based of
+    Just _ -> do
+      let b = readIn 10 intPart
+      when (b `notElem` [2, 8, 16]) (fail ("base " <> show b <> " is not one of 2, 8, 16"))
+      LInt . readIn (fromInteger b) <$> digitsIn (fromInteger b)
+    Nothing -> do
+      frac <- optional (try (char '.' *> digitsIn 10))
+      ex <- optional (try (satisfy (`elem` ("eE" :: String)) *> exponentP))
+      notFollowedBy (satisfy isWordChar) <?> "the end of the number"
+      case (frac, ex) of
+        (Nothing, Nothing) -> pure (LInt (readIn 10 intPart))
+        _ -> do
+          let f = fromMaybe "" frac
+              mant = toRational (readIn 10 (intPart <> f)) / (10 ^ T.length f)
+              e = fromMaybe 0 ex
+              v = if e >= 0 then mant * 10 ^ e else mant / 10 ^ negate e
+          pure (LReal v (intPart <> maybe "" ("." <>) frac <> maybe "" (\x -> "E" <> T.pack (show x)) ex))
+  where
+    exponentP = do
+      sign <- optional (satisfy (`elem` ("+-" :: String)))
+      ds <- digitsIn 10
+      let n = readIn 10 ds
+      pure (if sign == Just '-' then negate n else n)
+
+-- | A character string (TC-LEX-28..40): @$@ escapes of Tab.3.3 and @$hh@.
+stringLit :: Policies -> Char -> Parser Text
+stringLit pol q = lexeme pol $ do
+  off <- getOffset
+  _ <- char q
+  go off []
+  where
+    go off acc = do
+      done <- atEnd
+      when done (failAt off "string-not-closed" "this string is never closed")
+      c <- anySingle
+      if
+          | c == q -> pure (T.pack (reverse acc))
+          | c == '\n' -> failAt off "string-not-closed" "this string is not closed on its line"
+          | c == '$' -> do
+              eoff <- getOffset
+              e <- anySingle
+              if
+                  | e == '$' -> go off ('$' : acc)
+                  | e == '\'' || e == '"' -> go off (e : acc)
+                  | e `elem` ("Ll" :: String) -> go off ('\n' : acc)
+                  | e `elem` ("Nn" :: String) -> go off ('\n' : acc) -- TC-LEX-38: $N is LF
+                  | e `elem` ("Pp" :: String) -> go off ('\f' : acc)
+                  | e `elem` ("Rr" :: String) -> go off ('\r' : acc)
+                  | e `elem` ("Tt" :: String) -> go off ('\t' : acc)
+                  | isHexDigit e -> do
+                      e2 <- satisfy isHexDigit <|> failAt eoff "invalid-escape" "$ must be followed by two hexadecimal digits or one of $ ' L N P R T"
+                      go off (chr (digitToInt e * 16 + digitToInt e2) : acc)
+                  | otherwise -> failAt eoff "invalid-escape" ("$" <> T.singleton e <> " is not a string escape: $ is followed by $, ', L, N, P, R, T or two hexadecimal digits (TC-LEX-40)")
+          | otherwise -> go off (c : acc)
+
+-- | Duration literal body after @T#@ (TC-LEX-41, TC-LEX-44): units d h m s ms
+-- (also us, ns), any case, fractional values, underscores between units.
+durationBody :: Parser Integer
+durationBody = do
+  neg <- isJust <$> optional (char '-')
+  parts <- some (try part <* optional (char '_'))
+  let total = sum parts
+  pure (if neg then negate total else total)
+  where
+    part = do
+      ds <- digitsIn 10
+      frac <- optional (try (char '.' *> digitsIn 10))
+      unit <- unitP
+      let f = fromMaybe "" frac
+          value = toRational (readIn 10 (ds <> f)) / (10 ^ T.length f)
+      pure (floor (value * toRational unit))
+    unitP :: Parser Integer
+    unitP =
+      choice
+        [ 86400000000000 <$ try (string' "d" <* notFollowedBy (satisfy isAlpha))
+        , 3600000000000 <$ try (string' "h")
+        , 1000000 <$ try (string' "ms")
+        , 60000000000 <$ try (string' "m" <* notFollowedBy (satisfy (`elem` ("sS" :: String))))
+        , 1000 <$ try (string' "us")
+        , 1 <$ try (string' "ns")
+        , 1000000000 <$ try (string' "s")
+        ]
+
+dateBody :: Parser Integer
+dateBody = do
+  y <- readIn 10 <$> digitsIn 10
+  _ <- char '-'
+  m <- readIn 10 <$> digitsIn 10
+  _ <- char '-'
+  d <- readIn 10 <$> digitsIn 10
+  when (m < 1 || m > 12 || d < 1 || d > 31) (fail "this is not a valid date")
+  pure (daysFromCivil y m d * 86400 * 1000000000)
+
+-- | Days from 1970-01-01 (proleptic Gregorian).
+daysFromCivil :: Integer -> Integer -> Integer -> Integer
+daysFromCivil y0 m d =
+  let y = if m <= 2 then y0 - 1 else y0
+      era = y `div` 400
+      yoe = y - era * 400
+      mp = (m + 9) `mod` 12
+      doy = (153 * mp + 2) `div` 5 + d - 1
+      doe = yoe * 365 + yoe `div` 4 - yoe `div` 100 + doy
+   in era * 146097 + doe - 719468
+
+todBody :: Parser Integer
+todBody = do
+  h <- readIn 10 <$> digitsIn 10
+  _ <- char ':'
+  m <- readIn 10 <$> digitsIn 10
+  _ <- char ':'
+  s <- readIn 10 <$> digitsIn 10
+  frac <- optional (try (char '.' *> digitsIn 10))
+  when (h > 23 || m > 59 || s > 59) (fail "this is not a valid time of day")
+  let f = fromMaybe "" frac
+      fracNs = (readIn 10 f * 1000000000) `div` (10 ^ T.length f)
+  pure (((h * 60 + m) * 60 + s) * 1000000000 + fracNs)
+
+-- | @T#@, @D#@, @TOD#@, @DT#@ in their short and long spellings (TC-LEX-41,
+-- TC-LEX-42, TC-LEX-46), and typed literals @INT#5@ (TC-LEX-24), and
+-- enumerated values @Type#value@.
+prefixed :: Policies -> Parser Expr
+prefixed pol = do
+  p <- pos
+  off <- getOffset
+  w <- try (takeWhile1P Nothing isWordChar <* char '#')
+  case T.toUpper w of
+    u
+      | u `elem` ["T", "TIME", "LT", "LTIME"] -> lexeme pol (ELit p . LTime <$> durationBody) <?> "a duration such as 1h2m3s"
+      | u `elem` ["D", "DATE"] -> lexeme pol (ELit p . LDate <$> dateBody) <?> "a date such as 2003-06-21"
+      | u `elem` ["TOD", "TIME_OF_DAY"] -> lexeme pol (ELit p . LTod <$> todBody) <?> "a time of day such as 06:32:15.08"
+      | u `elem` ["DT", "DATE_AND_TIME"] -> lexeme pol (do d <- dateBody; _ <- char '-'; t <- todBody; pure (ELit p (LDT (d + t)))) <?> "a date and time such as 2003-06-21-11:38:52.35"
+      | otherwise -> do
+          inner <-
+            choice
+              [ Left <$> number pol
+              , Left . LBool <$> (True <$ kw pol "TRUE" <|> False <$ kw pol "FALSE")
+              , Left . LString <$> stringLit pol '\''
+              , Left . LWString <$> stringLit pol '"'
+              , Left . neg <$> (symbol pol "-" *> number pol)
+              , Right <$> name pol
+              ]
+          case inner of
+            Left l -> pure (ELit p (LTyped w l))
+            Right v -> do
+              when (isDigit (T.head w)) (failAt off "invalid-symbol" "a type name was expected before #")
+              pure (EEnum p w v)
+  where
+    neg = \case
+      LInt n -> LInt (negate n)
+      LReal r t -> LReal (negate r) ("-" <> t)
+      l -> l
+
+-- | A direct address (TC-ADDR-1..5): @%@, a location letter, an optional
+-- size letter, numbers separated by dots.
+location :: Policies -> Parser Location
+location pol = lexeme pol $ do
+  off <- getOffset
+  _ <- char '%'
+  area <- satisfy (`elem` ("IQMXYSRiqmxysr" :: String)) <|> failAt off "invalid-operand" "% must be followed by I, Q, M (or Tecomat's X, Y, S, R)"
+  size <- optional (satisfy (`elem` ("XBWDLxbwdl" :: String)))
+  nums <- (readIn 10 <$> digitsIn 10) `sepBy1` char '.'
+  let a = toUpperC area
+      sz = maybe ' ' toUpperC size
+      txt = "%" <> T.singleton a <> (if sz == ' ' then "" else T.singleton sz) <> T.intercalate "." (map (T.pack . show) nums)
+  pure (Location txt a sz nums)
+  where
+    toUpperC c = if isAsciiLower c then toEnum (fromEnum c - 32) else c
+
+------------------------------------------------------------------------------
+-- Declarations
+
+decl :: Policies -> Parser Decl
+decl pol =
+  choice
+    [ DTypes <$> (kw pol "TYPE" *> many (typeDecl pol) <* kw pol "END_TYPE")
+    , DGlobals <$> varBlock pol
+    , DPou <$> pou pol
+    , DConfig <$> configuration pol
+    ]
+    <?> "TYPE, VAR_GLOBAL, FUNCTION, FUNCTION_BLOCK, PROGRAM or CONFIGURATION"
+
+typeDecl :: Policies -> Parser TypeDecl
+typeDecl pol = do
+  (p, n) <- identifier pol
+  symbol pol ":"
+  spec <- typeSpec pol
+  i <- optional (symbol pol ":=" *> initValue pol)
+  symbol pol ";"
+  pure (TypeDecl p n spec i)
+
+typeSpec :: Policies -> Parser TypeSpec
+typeSpec pol = do
+  p <- pos
+  choice
+    [ do
+        kw pol "ARRAY"
+        symbol pol "["
+        dims <- ((,) <$> expr pol <* symbol pol ".." <*> expr pol) `sepBy1` symbol pol ","
+        symbol pol "]"
+        kw pol "OF"
+        TSArray p dims <$> typeSpec pol
+    , kw pol "STRUCT" *> (TSStruct p . concat <$> many (varDecls pol)) <* kw pol "END_STRUCT"
+    , TSEnum p <$> (symbol pol "(" *> identifier pol `sepBy1` symbol pol "," <* symbol pol ")")
+    , do
+        wide <- (False <$ kw pol "STRING") <|> (True <$ kw pol "WSTRING")
+        len <- optional ((symbol pol "[" *> expr pol <* symbol pol "]") <|> try (symbol pol "(" *> expr pol <* symbol pol ")"))
+        pure (TSString p wide len)
+    , do
+        n <- name pol
+        range <- optional (try (symbol pol "(" *> ((,) <$> expr pol <* symbol pol ".." <*> expr pol) <* symbol pol ")"))
+        pure (maybe (TSName p n) (TSSubrange p n) range)
+    ]
+    <?> "a type"
+
+-- | An initial value: an expression, @[...]@ with @n(v)@ repetitions
+-- (TC-TYPE-43), or @(field := v, ...)@ (TC-TYPE-44).
+initValue :: Policies -> Parser Init
+initValue pol = do
+  p <- pos
+  choice
+    [ IArray p <$> (symbol pol "[" *> arrayItem `sepBy` symbol pol "," <* symbol pol "]")
+    , try (IStruct p <$> (symbol pol "(" *> structItem `sepBy1` symbol pol "," <* symbol pol ")"))
+    , IExpr <$> expr pol
+    ]
+  where
+    arrayItem = do
+      rep <- optional (try (expr pol <* lookAhead (symbol pol "(")))
+      case rep of
+        Just n -> do
+          symbol pol "("
+          v <- optional (initValue pol)
+          symbol pol ")"
+          pure (Just n, fromMaybe (IArray noPos []) v)
+        Nothing -> (Nothing,) <$> initValue pol
+    structItem = (,) <$> (name pol <* symbol pol ":=") <*> initValue pol
+
+sectionP :: Policies -> Parser Section
+sectionP pol =
+  choice
+    [ SecInput <$ kw pol "VAR_INPUT"
+    , SecOutput <$ kw pol "VAR_OUTPUT"
+    , SecInOut <$ kw pol "VAR_IN_OUT"
+    , SecExternal <$ kw pol "VAR_EXTERNAL"
+    , SecGlobal <$ kw pol "VAR_GLOBAL"
+    , SecTemp <$ kw pol "VAR_TEMP"
+    , SecVar <$ kw pol "VAR"
+    ]
+
+varBlock :: Policies -> Parser VarBlock
+varBlock pol = do
+  p <- pos
+  sec <- sectionP pol
+  quals <- many ((True, False) <$ kw pol "CONSTANT" <|> (False, True) <$ kw pol "RETAIN" <|> (False, False) <$ kw pol "NON_RETAIN")
+  ds <- concat <$> many (varDecls pol)
+  kw pol "END_VAR"
+  pure (VarBlock p sec (any fst quals) (any snd quals) ds)
+
+-- | @a, b : T := v;@, @x AT %IW2 : WORD;@, @AT %QW2 : WORD := 16#00FF;@ and
+-- several located names of one type, @sb1 AT %X0.0, sb2 AT %X0.1 : BOOL;@
+-- (TC-ADDR-6, TC-ADDR-9, TC-ADDR-10): one declaration per location.
+varDecls :: Policies -> Parser [VarDecl]
+varDecls pol = do
+  p <- pos
+  declarators <- declarator `sepBy` symbol pol ","
+  when (null declarators) (void (identifier pol))
+  symbol pol ":"
+  t <- typeSpec pol
+  edge <- optional (REdge <$ kw pol "R_EDGE" <|> FEdge <$ kw pol "F_EDGE")
+  i <- optional (symbol pol ":=" *> initValue pol)
+  symbol pol ";"
+  let plain = [n | (Just n, Nothing) <- declarators]
+      located = [(n, l) | (n, Just l) <- declarators]
+  pure $
+    [VarDecl p plain Nothing t edge i | not (null plain)]
+      ++ [VarDecl p (maybe [] (: []) n) (Just l) t edge i | (n, l) <- located]
+  where
+    declarator =
+      ((,) <$> (Just <$> identifier pol) <*> optional (kw pol "AT" *> location pol))
+        <|> ((Nothing,) . Just <$> (kw pol "AT" *> location pol))
+
+pou :: Policies -> Parser Pou
+pou pol = do
+  p <- pos
+  (kind, endKw) <-
+    choice
+      [ (KFunctionBlock, "END_FUNCTION_BLOCK") <$ kw pol "FUNCTION_BLOCK"
+      , (KFunction, "END_FUNCTION") <$ kw pol "FUNCTION"
+      , (KProgram, "END_PROGRAM") <$ kw pol "PROGRAM"
+      ]
+  n <- name pol
+  result <- if kind == KFunction then Just <$> (symbol pol ":" *> typeSpec pol) else pure Nothing
+  blocks <- many (varBlock pol)
+  body <- statements pol
+  e <- pos
+  kw pol endKw
+  pure (Pou p kind n result blocks body e)
+
+configuration :: Policies -> Parser Configuration
+configuration pol = do
+  p <- pos
+  kw pol "CONFIGURATION"
+  n <- name pol
+  globals <- many (varBlock pol)
+  resources <- some (resource pol) <|> ((: []) <$> resourceBody pol p "")
+  kw pol "END_CONFIGURATION"
+  pure (Configuration p n globals resources)
+
+resource :: Policies -> Parser Resource
+resource pol = do
+  p <- pos
+  kw pol "RESOURCE"
+  n <- name pol
+  _ <- optional (kw pol "ON" *> name pol)
+  r <- resourceBody pol p n
+  kw pol "END_RESOURCE"
+  pure r
+
+resourceBody :: Policies -> Pos -> Name -> Parser Resource
+resourceBody pol p n = do
+  globals <- many (varBlock pol)
+  items <- many (Left <$> task <|> Right <$> program)
+  pure (Resource p n Nothing globals [t | Left t <- items] [g | Right g <- items])
+  where
+    task = do
+      tp <- pos
+      kw pol "TASK"
+      tn <- name pol
+      props <- option [] (symbol pol "(" *> ((,) <$> name pol <* symbol pol ":=" <*> expr pol) `sepBy` symbol pol "," <* symbol pol ")")
+      symbol pol ";"
+      pure (Task tp tn props)
+    program = do
+      pp <- pos
+      kw pol "PROGRAM"
+      inst <- name pol
+      t <- optional (kw pol "WITH" *> name pol)
+      symbol pol ":"
+      ty <- name pol
+      args <- option [] (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")")
+      symbol pol ";"
+      pure (ProgramConfig pp inst t ty args)
+
+------------------------------------------------------------------------------
+-- Statements (TC-STMT-*)
+
+-- | Keywords that end a statement list.
+enders :: [Text]
+enders = ["END_IF", "ELSIF", "ELSE", "END_CASE", "END_FOR", "END_WHILE", "UNTIL", "END_REPEAT", "END_FUNCTION", "END_FUNCTION_BLOCK", "END_PROGRAM"]
+
+atEnder :: Policies -> Parser Bool
+atEnder pol = isJust <$> optional (lookAhead (choice (map (kw pol) enders)))
+
+statements :: Policies -> Parser [Stmt]
+statements pol = do
+  e <- atEnder pol
+  done <- atEnd
+  if e || done then pure [] else (:) <$> statement pol <*> statements pol
+
+-- | Statements of a CASE arm: they end where the next labels start.
+caseStatements :: Policies -> Parser [Stmt]
+caseStatements pol = do
+  e <- atEnder pol
+  l <- isJust <$> optional (lookAhead (try (caseLabels pol *> symbol pol ":" *> notFollowedBy (char '='))))
+  if e || l then pure [] else (:) <$> statement pol <*> caseStatements pol
+
+statement :: Policies -> Parser Stmt
+statement pol = do
+  p <- pos
+  choice
+    [ SEmpty p <$ symbol pol ";"
+    , ifStmt p
+    , caseStmt p
+    , forStmt p
+    , whileStmt p
+    , repeatStmt p
+    , SExit p <$ kw pol "EXIT" <* symbol pol ";"
+    , SReturn p <$ kw pol "RETURN" <* symbol pol ";"
+    , simple p
+    ]
+    <?> "a statement"
+  where
+    ifStmt p = do
+      kw pol "IF"
+      c <- expr pol
+      kw pol "THEN"
+      b <- statements pol
+      elsifs <- many ((,) <$> (kw pol "ELSIF" *> expr pol <* kw pol "THEN") <*> statements pol)
+      els <- option [] (kw pol "ELSE" *> statements pol)
+      kw pol "END_IF"
+      symbol pol ";"
+      pure (SIf p ((c, b) : elsifs) els)
+    caseStmt p = do
+      kw pol "CASE"
+      sel <- expr pol
+      kw pol "OF"
+      arms <- many ((,) <$> (caseLabels pol <* symbol pol ":") <*> caseStatements pol)
+      els <- option [] (kw pol "ELSE" *> statements pol)
+      kw pol "END_CASE"
+      symbol pol ";"
+      pure (SCase p sel arms els)
+    forStmt p = do
+      kw pol "FOR"
+      v <- name pol
+      symbol pol ":="
+      s <- expr pol
+      kw pol "TO"
+      e <- expr pol
+      st <- optional (kw pol "BY" *> expr pol)
+      kw pol "DO"
+      b <- statements pol
+      kw pol "END_FOR"
+      symbol pol ";"
+      pure (SFor p v s e st b)
+    whileStmt p = do
+      kw pol "WHILE"
+      c <- expr pol
+      kw pol "DO"
+      b <- statements pol
+      kw pol "END_WHILE"
+      symbol pol ";"
+      pure (SWhile p c b)
+    repeatStmt p = do
+      kw pol "REPEAT"
+      b <- statements pol
+      kw pol "UNTIL"
+      c <- expr pol
+      _ <- optional (symbol pol ";") -- TC-ERRATA-4: Tab.3.24 writes `UNTIL i < 20;`
+      kw pol "END_REPEAT"
+      symbol pol ";"
+      pure (SRepeat p b c)
+    simple p = do
+      target <- variable pol
+      choice
+        [ do
+            symbol pol ":="
+            v <- expr pol
+            symbol pol ";"
+            pure (SAssign p target v)
+        , do
+            args <- symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")"
+            symbol pol ";"
+            pure (SCall p target args)
+        ]
+
+caseLabels :: Policies -> Parser [CaseLabel]
+caseLabels pol = label `sepBy1` symbol pol ","
+  where
+    label = do
+      a <- caseValue
+      r <- optional (symbol pol ".." *> caseValue)
+      pure (maybe (CaseValue a) (CaseRange a) r)
+    caseValue = do
+      p <- pos
+      choice
+        [ prefixed pol
+        , do
+            symbol pol "-"
+            l <- number pol
+            pure (EUn p UNeg (ELit p l))
+        , ELit p <$> number pol
+        , EVar p <$> name pol
+        ]
+
+arg :: Policies -> Parser Arg
+arg pol = do
+  p <- pos
+  formal <- optional (try ((,) <$> name pol <*> (True <$ symbol pol ":=" <|> False <$ symbol pol "=>")))
+  case formal of
+    Just (n, True) -> ArgInput p n <$> expr pol
+    Just (n, False) -> ArgOutput p n <$> variable pol
+    Nothing -> ArgPositional <$> expr pol
+
+------------------------------------------------------------------------------
+-- Expressions: the priorities of Tab.3.23 (TC-OP-1), equal priorities from
+-- left to right (TC-OP-3)
+
+expr :: Policies -> Parser Expr
+expr pol =
+  level [(BOr, kw pol "OR")] $
+    level [(BXor, kw pol "XOR")] $
+      level [(BAnd, kw pol "AND"), (BAnd, op "&" "")] $
+        level [(BEq, op "=" ">"), (BNe, op "<>" "")] $
+          level [(BLe, op "<=" ""), (BGe, op ">=" ""), (BLt, op "<" ">="), (BGt, op ">" "=")] $
+            level [(BAdd, op "+" ""), (BSub, op "-" "")] $
+              level [(BMul, op "*" "*"), (BDiv, op "/" ""), (BMod, kw pol "MOD")] (unary pol)
+  where
+    -- a symbol not followed by one of the characters that would make it another
+    op t notNext = lexeme pol (try (string t <* notFollowedBy (satisfy (`elem` T.unpack notNext)))) *> pure () <?> ("'" <> T.unpack t <> "'")
+    level ops next = next >>= rest
+      where
+        rest acc = do
+          m <- optional (choice [o <$ sym | (o, sym) <- ops])
+          case m of
+            Nothing -> pure acc
+            Just o -> do
+              r <- next
+              rest (EBin (exprPos acc) o acc r)
+
+-- | Unary minus and NOT bind less tightly than @**@ (Tab.3.23).
+unary :: Policies -> Parser Expr
+unary pol = do
+  p <- pos
+  choice
+    [ EUn p UNeg <$> (try (symbol pol "-" <* notFollowedBy (char '-')) *> unary pol)
+    , EUn p UPlus <$> (symbol pol "+" *> unary pol)
+    , EUn p UNot <$> (kw pol "NOT" *> unary pol)
+    , power pol
+    ]
+
+-- | @**@, left-associative (TC-OP-4); its right operand may carry a sign.
+power :: Policies -> Parser Expr
+power pol = do
+  b <- primary pol
+  rest b
+  where
+    rest acc = do
+      m <- optional (symbol pol "**")
+      case m of
+        Nothing -> pure acc
+        Just () -> do
+          e <- powerOperand
+          rest (EBin (exprPos acc) BPow acc e)
+    powerOperand = do
+      p <- pos
+      (EUn p UNeg <$> (symbol pol "-" *> powerOperand)) <|> primary pol
+
+primary :: Policies -> Parser Expr
+primary pol = do
+  p <- pos
+  choice
+    [ symbol pol "(" *> expr pol <* symbol pol ")"
+    , ELit p <$> number pol
+    , ELit p . LBool <$> (True <$ kw pol "TRUE" <|> False <$ kw pol "FALSE")
+    , ELit p . LString <$> stringLit pol '\''
+    , ELit p . LWString <$> stringLit pol '"'
+    , ELocated p <$> location pol
+    , prefixed pol
+    , try (ECall p <$> name pol <*> (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")"))
+      -- AND, OR, XOR and MOD are also the names of standard functions (Tab.3.14, Tab.3.16)
+    , try (ECall p <$> choice [w <$ kw pol w | w <- ["AND", "OR", "XOR", "MOD"]] <*> (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")"))
+    , variable pol
+    ]
+    <?> "an expression"
+
+-- | A variable: a name, then fields and indices (TC-TYPE-38, TC-TYPE-42).
+variable :: Policies -> Parser Expr
+variable pol = do
+  p <- pos
+  base <- (ELocated p <$> location pol) <|> (EVar p <$> name pol)
+  postfix base
+  where
+    postfix acc = do
+      p <- pos
+      m <-
+        optional $
+          choice
+            [ Left <$> (symbol pol "[" *> expr pol `sepBy1` symbol pol "," <* symbol pol "]")
+            , Right <$> try (symbol pol "." *> name pol)
+            ]
+      case m of
+        Nothing -> pure acc
+        Just (Left ix) -> postfix (EIndex p acc ix)
+        Just (Right f) -> postfix (EField p acc f)

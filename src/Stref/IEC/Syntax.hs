@@ -1,0 +1,287 @@
+-- | The abstract syntax of an IEC 61131-3 compilation unit (IEC 61131-3 ed.2
+-- §2 and §3; Tecomat manual §3): data type declarations, global variables,
+-- functions, function blocks, programs and configurations, their variable
+-- sections and the statements and expressions of Structured Text.
+--
+-- One tree for every IEC dialect: what a dialect accepts is decided by the
+-- parser's dialect data and by the checker, not by a second tree.
+module Stref.IEC.Syntax
+  ( Pos (..)
+  , noPos
+  , Name
+  , Unit (..)
+  , Decl (..)
+  , TypeDecl (..)
+  , TypeSpec (..)
+  , Init (..)
+  , VarBlock (..)
+  , Section (..)
+  , VarDecl (..)
+  , EdgeQualifier (..)
+  , Location (..)
+  , Pou (..)
+  , PouKind (..)
+  , Configuration (..)
+  , Resource (..)
+  , Task (..)
+  , ProgramConfig (..)
+  , Stmt (..)
+  , CaseLabel (..)
+  , Arg (..)
+  , Expr (..)
+  , Literal (..)
+  , UnOp (..)
+  , BinOp (..)
+  , exprPos
+  , stmtPos
+  , binOpSymbol
+  ) where
+
+import Data.Text (Text)
+import Stref.Syntax (Pos (..), noPos)
+
+-- | A name as written; names compare without case (TC-LEX-15), which the
+-- checker does by upper-casing.
+type Name = Text
+
+-- | A compilation unit: its declarations in source order.
+newtype Unit = Unit {unitDecls :: [Decl]}
+  deriving (Eq, Show)
+
+data Decl
+  = DTypes [TypeDecl] -- ^ @TYPE ... END_TYPE@ (TC-TYPE-29)
+  | DGlobals VarBlock -- ^ a top-level @VAR_GLOBAL@ block (TC-VAR-13)
+  | DPou Pou
+  | DConfig Configuration
+  deriving (Eq, Show)
+
+data TypeDecl = TypeDecl
+  { tdPos :: Pos
+  , tdName :: Name
+  , tdSpec :: TypeSpec
+  , tdInit :: Maybe Init
+  }
+  deriving (Eq, Show)
+
+-- | A type as written in a declaration.
+data TypeSpec
+  = TSName Pos Name -- ^ an elementary, derived or FB type by name
+  | TSString Pos Bool (Maybe Expr) -- ^ @STRING[n]@ / @WSTRING[n]@ (True: wide)
+  | TSArray Pos [(Expr, Expr)] TypeSpec -- ^ @ARRAY [a..b, c..d] OF T@
+  | TSStruct Pos [VarDecl] -- ^ @STRUCT ... END_STRUCT@
+  | TSEnum Pos [(Pos, Name)] -- ^ @(a, b, c)@
+  | TSSubrange Pos Name (Expr, Expr) -- ^ @INT (lo..hi)@
+  deriving (Eq, Show)
+
+-- | An initial value: an expression, an array list (with @n(v)@
+-- repetitions) or a structure list.
+data Init
+  = IExpr Expr
+  | IArray Pos [(Maybe Expr, Init)] -- ^ @[1, 2, 3(0)]@: an optional repetition count
+  | IStruct Pos [(Name, Init)] -- ^ @(a := 1, b := 2)@
+  deriving (Eq, Show)
+
+data Section
+  = SecVar
+  | SecInput
+  | SecOutput
+  | SecInOut
+  | SecExternal
+  | SecGlobal
+  | SecTemp
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+data VarBlock = VarBlock
+  { vbPos :: Pos
+  , vbSection :: Section
+  , vbConstant :: Bool
+  , vbRetain :: Bool
+  , vbDecls :: [VarDecl]
+  }
+  deriving (Eq, Show)
+
+data EdgeQualifier = REdge | FEdge
+  deriving (Eq, Show)
+
+-- | A direct address: @%IX2.1@, @%QW4@, @%MD8@, Tecomat's @%X0.2@, @%Y1@,
+-- @%RW10@ (TC-ADDR-1..5), kept as written and as its parts.
+data Location = Location
+  { locText :: Text -- ^ as written, upper case, with the @%@
+  , locArea :: Char -- ^ I Q M X Y S R
+  , locSize :: Char -- ^ X B W D L, or @' '@ when absent
+  , locAddress :: [Integer]
+  }
+  deriving (Eq, Ord, Show)
+
+data VarDecl = VarDecl
+  { vdPos :: Pos
+  , vdNames :: [(Pos, Name)] -- ^ empty for an anonymous located variable
+  , vdAt :: Maybe Location
+  , vdType :: TypeSpec
+  , vdEdge :: Maybe EdgeQualifier
+  , vdInit :: Maybe Init
+  }
+  deriving (Eq, Show)
+
+data PouKind = KFunction | KFunctionBlock | KProgram
+  deriving (Eq, Show)
+
+data Pou = Pou
+  { pouPos :: Pos
+  , pouKind :: PouKind
+  , pouName :: Name
+  , pouResult :: Maybe TypeSpec -- ^ a FUNCTION's result type
+  , pouVars :: [VarBlock]
+  , pouBody :: [Stmt]
+  , pouEnd :: Pos -- ^ where @END_...@ stands
+  }
+  deriving (Eq, Show)
+
+data Configuration = Configuration
+  { cfgPos :: Pos
+  , cfgName :: Name
+  , cfgGlobals :: [VarBlock]
+  , cfgResources :: [Resource]
+  }
+  deriving (Eq, Show)
+
+data Resource = Resource
+  { resPos :: Pos
+  , resName :: Name
+  , resOn :: Maybe Name
+  , resGlobals :: [VarBlock]
+  , resTasks :: [Task]
+  , resPrograms :: [ProgramConfig]
+  }
+  deriving (Eq, Show)
+
+-- | @TASK name(Number := 0, INTERVAL := T#10ms, PRIORITY := 1);@
+data Task = Task
+  { taskPos :: Pos
+  , taskName :: Name
+  , taskProps :: [(Name, Expr)]
+  }
+  deriving (Eq, Show)
+
+-- | @PROGRAM inst WITH task : type (params);@
+data ProgramConfig = ProgramConfig
+  { pcPos :: Pos
+  , pcInstance :: Name
+  , pcTask :: Maybe Name
+  , pcType :: Name
+  , pcArgs :: [Arg]
+  }
+  deriving (Eq, Show)
+
+data Stmt
+  = SAssign Pos Expr Expr -- ^ target (a variable expression), value
+  | SCall Pos Expr [Arg] -- ^ an FB instance or a function called as a statement
+  | SIf Pos [(Expr, [Stmt])] [Stmt] -- ^ IF/ELSIF arms, ELSE
+  | SCase Pos Expr [([CaseLabel], [Stmt])] [Stmt]
+  | SFor Pos Name Expr Expr (Maybe Expr) [Stmt] -- ^ control variable, start, end, step
+  | SWhile Pos Expr [Stmt]
+  | SRepeat Pos [Stmt] Expr
+  | SExit Pos
+  | SReturn Pos
+  | SEmpty Pos
+  deriving (Eq, Show)
+
+data CaseLabel = CaseValue Expr | CaseRange Expr Expr
+  deriving (Eq, Show)
+
+-- | An argument: positional, formal input @n := e@, or output binding
+-- @n => v@ (with @NOT@ for @NOT n => v@, not used by Tecomat).
+data Arg
+  = ArgPositional Expr
+  | ArgInput Pos Name Expr
+  | ArgOutput Pos Name Expr
+  deriving (Eq, Show)
+
+data Expr
+  = ELit Pos Literal
+  | EVar Pos Name
+  | EField Pos Expr Name -- ^ @r.f@, @inst.Q@
+  | EIndex Pos Expr [Expr] -- ^ @a[i, j]@
+  | ELocated Pos Location -- ^ a direct address used in an expression
+  | EUn Pos UnOp Expr
+  | EBin Pos BinOp Expr Expr
+  | ECall Pos Name [Arg] -- ^ a function call
+  | EEnum Pos Name Name -- ^ @TYPE#value@
+  deriving (Eq, Show)
+
+data Literal
+  = LInt Integer -- ^ an untyped integer (TC-LEX-20..22)
+  | LReal Rational Text -- ^ an untyped real, exactly, and as written
+  | LBool Bool
+  | LTyped Name Literal -- ^ @INT#5@, @REAL#1.0@, @BOOL#1@ (TC-LEX-24)
+  | LString Text -- ^ after escapes (TC-LEX-28..38)
+  | LWString Text
+  | LTime Integer -- ^ a duration, exactly, in nanoseconds (TC-LEX-41, TC-LEX-44)
+  | LDate Integer -- ^ nanoseconds from 1970-01-01 to the date's midnight (TC-LEX-42)
+  | LTod Integer -- ^ nanoseconds since midnight
+  | LDT Integer -- ^ nanoseconds since 1970-01-01
+  deriving (Eq, Show)
+
+data UnOp = UNeg | UNot | UPlus
+  deriving (Eq, Show)
+
+data BinOp
+  = BPow
+  | BMul
+  | BDiv
+  | BMod
+  | BAdd
+  | BSub
+  | BLt
+  | BGt
+  | BLe
+  | BGe
+  | BEq
+  | BNe
+  | BAnd
+  | BXor
+  | BOr
+  deriving (Eq, Show, Enum, Bounded)
+
+binOpSymbol :: BinOp -> Text
+binOpSymbol = \case
+  BPow -> "**"
+  BMul -> "*"
+  BDiv -> "/"
+  BMod -> "MOD"
+  BAdd -> "+"
+  BSub -> "-"
+  BLt -> "<"
+  BGt -> ">"
+  BLe -> "<="
+  BGe -> ">="
+  BEq -> "="
+  BNe -> "<>"
+  BAnd -> "AND"
+  BXor -> "XOR"
+  BOr -> "OR"
+
+exprPos :: Expr -> Pos
+exprPos = \case
+  ELit p _ -> p
+  EVar p _ -> p
+  EField p _ _ -> p
+  EIndex p _ _ -> p
+  ELocated p _ -> p
+  EUn p _ _ -> p
+  EBin p _ _ _ -> p
+  ECall p _ _ -> p
+  EEnum p _ _ -> p
+
+stmtPos :: Stmt -> Pos
+stmtPos = \case
+  SAssign p _ _ -> p
+  SCall p _ _ -> p
+  SIf p _ _ -> p
+  SCase p _ _ _ -> p
+  SFor p _ _ _ _ _ -> p
+  SWhile p _ _ -> p
+  SRepeat p _ _ -> p
+  SExit p -> p
+  SReturn p -> p
+  SEmpty p -> p

@@ -1,0 +1,167 @@
+-- | The data types of IEC 61131-3 (ed.2 §2.3; Tecomat §3.2): the elementary
+-- types with their exact widths, the generic families of the standard
+-- functions, and the derived types (aliases resolved away, enumerations,
+-- subranges, arrays, structures) and function-block types.
+module Stref.IEC.Types
+  ( Elem (..)
+  , Type (..)
+  , allElems
+  , elemName
+  , parseElemName
+  , isInt
+  , isSignedInt
+  , isBitString
+  , isAnyBit
+  , isAnyInt
+  , isAnyReal
+  , isAnyNum
+  , isAnyDate
+  , isTimeLike
+  , intBits
+  , intRange
+  , typeText
+  , baseElem
+  , sameType
+  ) where
+
+import Data.Text (Text)
+import qualified Data.Text as T
+
+-- | The elementary types (TC-TYPE-1..17; LINT, ULINT, LWORD and LTIME are
+-- for the dialects that have them: TC-TYPE-18).
+data Elem
+  = BOOL
+  | SINT
+  | INT
+  | DINT
+  | LINT
+  | USINT
+  | UINT
+  | UDINT
+  | ULINT
+  | BYTE
+  | WORD
+  | DWORD
+  | LWORD
+  | REAL
+  | LREAL
+  | TIME
+  | LTIME
+  | DATE
+  | TOD
+  | DT
+  deriving (Eq, Ord, Show, Read, Enum, Bounded)
+
+-- | A type after the checker resolved names and aliases.
+data Type
+  = TElem Elem
+  | TString Bool Int -- ^ wide?, capacity in characters
+  | TArray [(Integer, Integer)] Type -- ^ bounds of each dimension (TC-TYPE-38..41)
+  | TStruct Text [(Text, Type)] -- ^ the type's name ("" when anonymous) and its fields in order
+  | TEnum Text [Text] -- ^ the type's name and its values in order (TC-TYPE-21)
+  | TSubrange Elem Integer Integer -- ^ base type and bounds (TC-TYPE-32)
+  | TFB Text -- ^ an instance of the named function block (standard or user)
+  | TProgram Text -- ^ a program instance
+  deriving (Eq, Ord, Show)
+
+allElems :: [Elem]
+allElems = [minBound .. maxBound]
+
+elemName :: Elem -> Text
+elemName = T.pack . show
+
+-- | Case-insensitive, with the long spellings TIME_OF_DAY and DATE_AND_TIME.
+parseElemName :: Text -> Maybe Elem
+parseElemName t = case T.toUpper t of
+  "TIME_OF_DAY" -> Just TOD
+  "DATE_AND_TIME" -> Just DT
+  u -> lookup u [(elemName e, e) | e <- allElems]
+
+-- | The integers and bit strings (not BOOL).
+isInt :: Elem -> Bool
+isInt e = isAnyInt e || isBitString e
+
+isSignedInt :: Elem -> Bool
+isSignedInt e = e `elem` [SINT, INT, DINT, LINT]
+
+isBitString :: Elem -> Bool
+isBitString e = e `elem` [BYTE, WORD, DWORD, LWORD]
+
+-- | ANY_BIT (Tab.3.7): BOOL and the bit strings.
+isAnyBit :: Elem -> Bool
+isAnyBit e = e == BOOL || isBitString e
+
+-- | ANY_INT (Tab.3.7).
+isAnyInt :: Elem -> Bool
+isAnyInt e = e `elem` [SINT, INT, DINT, LINT, USINT, UINT, UDINT, ULINT]
+
+isAnyReal :: Elem -> Bool
+isAnyReal e = e == REAL || e == LREAL
+
+isAnyNum :: Elem -> Bool
+isAnyNum e = isAnyInt e || isAnyReal e
+
+-- | ANY_DATE (Tab.3.7): DATE, TOD, DT.
+isAnyDate :: Elem -> Bool
+isAnyDate e = e `elem` [DATE, TOD, DT]
+
+isTimeLike :: Elem -> Bool
+isTimeLike e = e `elem` [TIME, LTIME, DATE, TOD, DT]
+
+-- | Width of an integer or bit-string type (Tab.3.6).
+intBits :: Elem -> Int
+intBits = \case
+  SINT -> 8
+  USINT -> 8
+  BYTE -> 8
+  INT -> 16
+  UINT -> 16
+  WORD -> 16
+  DINT -> 32
+  UDINT -> 32
+  DWORD -> 32
+  LINT -> 64
+  ULINT -> 64
+  LWORD -> 64
+  BOOL -> 1
+  TIME -> 32 -- TC-TYPE-19: a signed 32-bit count of milliseconds
+  LTIME -> 64
+  _ -> 64
+
+-- | The range of an integer or bit-string type (Tab.3.6).
+intRange :: Elem -> (Integer, Integer)
+intRange e
+  | isSignedInt e || e == TIME || e == LTIME = (negate (2 ^ (n - 1)), 2 ^ (n - 1) - 1)
+  | otherwise = (0, 2 ^ n - 1)
+  where
+    n = intBits e
+
+typeText :: Type -> Text
+typeText = \case
+  TElem e -> elemName e
+  TString w n -> (if w then "WSTRING[" else "STRING[") <> T.pack (show n) <> "]"
+  TArray bs t -> "ARRAY [" <> T.intercalate ", " [T.pack (show a) <> ".." <> T.pack (show b) | (a, b) <- bs] <> "] OF " <> typeText t
+  TStruct n _ -> if T.null n then "STRUCT" else n
+  TEnum n _ -> if T.null n then "an enumeration" else n
+  TSubrange e a b -> elemName e <> " (" <> T.pack (show a) <> ".." <> T.pack (show b) <> ")"
+  TFB n -> n
+  TProgram n -> n
+
+-- | The elementary type under a subrange, or of an elementary type.
+baseElem :: Type -> Maybe Elem
+baseElem = \case
+  TElem e -> Just e
+  TSubrange e _ _ -> Just e
+  _ -> Nothing
+
+-- | Types that hold the same values: strings of any capacity are one type
+-- for assignment (truncation is a policy, not a type error).
+sameType :: Type -> Type -> Bool
+sameType a b = case (a, b) of
+  (TString w1 _, TString w2 _) -> w1 == w2
+  (TSubrange e _ _, t) -> sameType (TElem e) t
+  (t, TSubrange e _ _) -> sameType t (TElem e)
+  (TArray b1 t1, TArray b2 t2) -> map dimLen b1 == map dimLen b2 && sameType t1 t2
+  _ -> a == b
+  where
+    dimLen (lo, hi) = hi - lo
