@@ -47,6 +47,9 @@ import System.Timeout (timeout)
 import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution (CallResult (..), PlcState (..))
+import Stref.IEC.Check (ProgramChoice (..))
+import Stref.IEC.Engine (RunResult (..), runProgram)
+import Stref.IEC.Eval (Stop (..))
 import Stref.Policy
 import Stref.Run
 import Stref.Source (decodeSource, renderEncodingError)
@@ -344,6 +347,10 @@ fuzzStepBudget = 20000
 fuzzPolicies :: Policies
 fuzzPolicies = mastertoolXE {pStepBudget = fuzzStepBudget}
 
+-- | The IEC core's policies for fuzzing: the tecomat preset, a small budget.
+iecFuzzPolicies :: Policies
+iecFuzzPolicies = tecomat {pStepBudget = fuzzStepBudget}
+
 -- | Decode, parse, print, check and run (two calls) one input, a short one
 -- also as an @stref eval@ snippet; the text is
 -- everything the user could see, so forcing it forces the whole pipeline.
@@ -354,7 +361,7 @@ evaluateInput bytes = case decodeSource bytes of
   Left bad ->
     let (_, seen) = pipeline (TE.decodeUtf8With TE.lenientDecode bytes)
      in (InvalidEncoding, renderEncodingError file bad <> seen)
-  Right src -> let (o, seen) = pipeline src in (o, seen <> snippet src)
+  Right src -> let (o, seen) = pipeline src in (o, seen <> snippet src <> iecPipeline src)
   where
     file = "fuzz.st"
     pipeline src =
@@ -371,6 +378,12 @@ evaluateInput bytes = case decodeSource bytes of
             Right ro ->
               let codes = [fmap (\(RuntimeError c _ _) -> c) (crError r) | r <- roResults ro]
                in (Ran codes, printed <> T.pack (show (roResults ro, psMemory (roFinal ro))))
+    -- every input also goes through the IEC core (the tecomat dialect):
+    -- parse, check, two cycles
+    iecPipeline src = case runProgram iecFuzzPolicies file src ProgramsOfConfiguration 10 [] [[], []] of
+      Left e -> veKind e <> veMessage e
+      Right (Left t) -> t
+      Right (Right r) -> T.pack (show (rrMachine r, fmap (\(k, StopFault p f) -> (k, p, f)) (rrError r), rrCycles r))
     -- short inputs also go through @stref eval@'s wrapping
     snippet src
       | T.length src > 1000 = ""

@@ -7,6 +7,7 @@ module IEC.EngineSpec (spec) where
 
 import Data.Either (isLeft)
 import Data.Text (Text)
+import qualified Data.Text as T
 import Stref.Conformance.Protocol (Scalar (..))
 import Stref.IEC.Check (ProgramChoice (..))
 import Stref.IEC.Engine
@@ -64,6 +65,19 @@ spec = describe "IEC.Engine" $ do
       fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR \x158\&ek : INT; END_VAR\nEND_PROGRAM\n") `shouldBe` Just "invalid-identifier"
     it "rejects mutual recursion (TC-POU-2)" $
       fmap fst (rejectKind tecomat "FUNCTION A : INT\nVAR_INPUT x : INT; END_VAR\nA := B(x);\nEND_FUNCTION\nFUNCTION B : INT\nVAR_INPUT x : INT; END_VAR\nB := A(x);\nEND_FUNCTION\nPROGRAM MAIN\nEND_PROGRAM\n") `shouldBe` Just "recursive-call"
+  describe "robustness (docs/robustness.md)" $ do
+    let deep = 10000
+        prog body = "PROGRAM MAIN\nVAR x : DINT; b : BOOL; END_VAR\n" <> body <> "\nEND_PROGRAM\n"
+    it "10,000 nested parentheses are refused with nesting-too-deep" $
+      fmap fst (rejectKind tecomat (prog ("x := " <> T.replicate deep "(" <> "1" <> T.replicate deep ")" <> ";"))) `shouldBe` Just "nesting-too-deep"
+    it "10,000 nested IFs are refused with nesting-too-deep" $
+      fmap fst (rejectKind tecomat (prog (T.replicate deep "IF TRUE THEN " <> "x := 1;" <> T.replicate deep " END_IF;"))) `shouldBe` Just "nesting-too-deep"
+    it "10,000 NOTs are refused with nesting-too-deep" $
+      fmap fst (rejectKind tecomat (prog ("b := " <> T.replicate deep "NOT " <> "TRUE;"))) `shouldBe` Just "nesting-too-deep"
+    it "a sum of 10,000 ones is computed (no depth limit on a left-associative chain)" $
+      runMain tecomat ("VAR x : DINT; END_VAR x := " <> T.intercalate " + " (replicate deep "1") <> ";") 1 "x" `shouldBe` Right (VInt DINT 10000)
+    it "200 nested parentheses are accepted" $
+      runMain tecomat ("VAR x : DINT; END_VAR x := " <> T.replicate 199 "(" <> "7" <> T.replicate 199 ")" <> ";") 1 "x" `shouldBe` Right (VInt DINT 7)
   describe "cycles and the clock (corpus-format 4.1)" $ do
     it "a program's variables keep their values from cycle to cycle (TC-POU-15)" $
       runMain tecomat "VAR cnt : INT; END_VAR cnt := cnt + 1;" 5 "cnt" `shouldBe` Right (VInt INT 5)

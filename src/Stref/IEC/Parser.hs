@@ -35,7 +35,56 @@ type Parser = Parsec Issue Text
 
 -- | Parse a whole compilation unit.
 parseUnit :: Policies -> FilePath -> Text -> Either VerificationError Unit
-parseUnit pol file src = runP pol file src (sc pol *> (Unit <$> many (decl pol)) <* eofP)
+parseUnit pol file src = case tooDeep pol src of
+  Just off -> Left (VerificationError "nesting-too-deep" (posAt src off) ("the program is nested more than " <> T.pack (show maxNesting) <> " levels deep (parentheses, brackets, operators or statements); split it into simpler parts"))
+  Nothing -> runP pol file src (sc pol *> (Unit <$> many (decl pol)) <* eofP)
+
+-- | Deeper nesting than this is refused with @nesting-too-deep@ rather than
+-- risking the stack (docs/robustness.md).
+maxNesting :: Int
+maxNesting = 200
+
+-- | Where the text first nests deeper than 'maxNesting': parentheses and
+-- brackets, IF/CASE/FOR/WHILE/REPEAT blocks, runs of prefix operators (NOT,
+-- unary minus). Comments and strings are skipped. A linear scan before the
+-- parser, so that the parser's recursion stays shallow.
+tooDeep :: Policies -> Text -> Maybe Int
+tooDeep pol = go 0 0 0 . zip [0 ..] . T.unpack
+  where
+    openers = ["IF", "CASE", "FOR", "WHILE", "REPEAT"]
+    closers = ["END_IF", "END_CASE", "END_FOR", "END_WHILE", "END_REPEAT"]
+    go :: Int -> Int -> Int -> [(Int, Char)] -> Maybe Int
+    go _ _ _ [] = Nothing
+    go depth prefix commentDepth cs@((off, c) : rest)
+      | commentDepth > 0 = case cs of
+          (_, '*') : (_, ')') : more -> go depth prefix (commentDepth - 1) more
+          (_, '(') : (_, '*') : more | pNestedComments pol == Nesting -> go depth prefix (commentDepth + 1) more
+          _ -> go depth prefix commentDepth rest
+      | otherwise = case cs of
+          (_, '(') : (_, '*') : more -> go depth prefix 1 more
+          (_, '/') : (_, '/') : more -> go depth prefix 0 (dropWhile ((/= '\n') . snd) more)
+          (_, q) : more | q == '\'' || q == '"' -> go depth 0 0 (skipString q more)
+          _
+            | c == '(' || c == '[' -> deeper 1
+            | c == ')' || c == ']' -> go (depth - 1) 0 0 rest
+            | c == '-' || c == '+' -> if prefix + 1 > maxNesting then Just off else go depth (prefix + 1) 0 rest
+            | isWordChar c ->
+                let (w, more) = span (isWordChar . snd) cs
+                    u = T.toUpper (T.pack (map snd w))
+                 in if
+                      | u `elem` openers -> if depth + 1 > maxNesting then Just off else go (depth + 1) 0 0 more
+                      | u `elem` closers -> go (depth - 1) 0 0 more
+                      | u == "NOT" -> if prefix + 1 > maxNesting then Just off else go depth (prefix + 1) 0 more
+                      | otherwise -> go depth 0 0 more
+            | isSpace c -> go depth prefix 0 rest
+            | otherwise -> go depth 0 0 rest
+      where
+        deeper k = if depth + k > maxNesting then Just off else go (depth + k) 0 0 rest
+    skipString q = \case
+      [] -> []
+      (_, '$') : _ : more -> skipString q more
+      (_, x) : more | x == q -> more
+      _ : more -> skipString q more
 
 -- | One expression (for @stref eval@ and the tests).
 parseUnitExpr :: Policies -> Text -> Either VerificationError Expr
@@ -100,15 +149,18 @@ sc pol = skipMany (void (takeWhile1P (Just "white space") isSpace) <|> blockComm
     blockComment = do
       off <- getOffset
       _ <- try (string "(*")
-      body off
-    body off = do
-      done <- atEnd
-      when done (failAt off "comment-not-closed" "this comment is never closed by *)")
-      choice
-        [ void (try (string "*)"))
-        , try (string "(*") *> (if pNestedComments pol == Nesting then body off *> body off else body off)
-        , anySingle *> body off
-        ]
+      -- a loop, not a recursion through alternatives: a long comment that
+      -- is never closed must not deepen the stack
+      let loop :: Int -> Parser ()
+          loop depth = do
+            _ <- takeWhileP Nothing (\c -> c /= '*' && c /= '(')
+            r <- optional (choice [Just False <$ try (string "*)"), Just True <$ try (string "(*"), Nothing <$ anySingle])
+            case r of
+              Nothing -> failAt off "comment-not-closed" "this comment is never closed by *)"
+              Just Nothing -> loop depth
+              Just (Just False) -> if depth <= 1 then pure () else loop (depth - 1)
+              Just (Just True) -> loop (if pNestedComments pol == Nesting then depth + 1 else depth)
+      loop 1
 
 lexeme :: Policies -> Parser a -> Parser a
 lexeme pol p = p <* sc pol
@@ -536,17 +588,22 @@ atEnder :: Policies -> Parser Bool
 atEnder pol = isJust <$> optional (lookAhead (choice (map (kw pol) enders)))
 
 statements :: Policies -> Parser [Stmt]
-statements pol = do
-  e <- atEnder pol
-  done <- atEnd
-  if e || done then pure [] else (:) <$> statement pol <*> statements pol
+statements pol = go []
+  where
+    -- a loop: ten thousand statements must not deepen the stack
+    go acc = do
+      e <- atEnder pol
+      done <- atEnd
+      if e || done then pure (reverse acc) else statement pol >>= \st -> go (st : acc)
 
 -- | Statements of a CASE arm: they end where the next labels start.
 caseStatements :: Policies -> Parser [Stmt]
-caseStatements pol = do
-  e <- atEnder pol
-  l <- isJust <$> optional (lookAhead (try (caseLabels pol *> symbol pol ":" *> notFollowedBy (char '='))))
-  if e || l then pure [] else (:) <$> statement pol <*> caseStatements pol
+caseStatements pol = go []
+  where
+    go acc = do
+      e <- atEnder pol
+      l <- isJust <$> optional (lookAhead (try (caseLabels pol *> symbol pol ":" *> notFollowedBy (char '='))))
+      if e || l then pure (reverse acc) else statement pol >>= \st -> go (st : acc)
 
 statement :: Policies -> Parser Stmt
 statement pol = do
