@@ -98,6 +98,10 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitSuccess
       lines out `shouldSatisfy` (\ls -> all (`elem` ls) ["  MAIN.cnt = 4", "  MAIN.t.Q = TRUE", "  MAIN.t.ET = T#20ms"])
       out `shouldSatisfy` ("cycles run: 4" `isInfixOf`)
+    it "parse lists the declarations of a unit" $ do
+      (code, out, _) <- stref ["parse", "--dialect", "tecomat", fixture "tecomat-counter.st"]
+      code `shouldBe` ExitSuccess
+      lines out `shouldBe` ["PROGRAM MAIN (2 statements)"]
     it "prints the same as JSON" $ do
       (code, out, _) <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--calls", "2", "--format", "json"]
       code `shouldBe` ExitSuccess

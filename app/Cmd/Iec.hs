@@ -5,6 +5,7 @@ module Cmd.Iec
   ( dialectPolicies
   , isIecDialect
   , checkIec
+  , parseIec
   , runIec
   , evalIec
   , RunIecOptions (..)
@@ -29,7 +30,7 @@ import Stref.IEC.Checked
 import Stref.IEC.Engine
 import Stref.IEC.Eval (Machine (..), Stop (..), readVariablePath)
 import Stref.IEC.Parser (parseUnit)
-import Stref.IEC.Syntax (Pos (..), PouKind (..))
+import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (TIME))
 import Stref.IEC.Values
 import Stref.Policy
@@ -47,6 +48,28 @@ dialectPolicies dialect assignments = do
 
 isIecDialect :: Policies -> Bool
 isIecDialect p = pModel p == IecController
+
+-- | @stref parse --dialect tecomat FILE@: the unit's declarations, or its
+-- syntax tree with @--ast@.
+parseIec :: Policies -> FilePath -> Text -> Bool -> IO ExitCode
+parseIec pol file src ast = case parseUnit pol file src of
+  Left e -> do
+    TIO.hPutStr stderr (renderError file src e)
+    pure (ExitFailure 1)
+  Right unit@(Unit decls)
+    | ast -> print unit >> pure ExitSuccess
+    | otherwise -> do
+        forM_ decls $ \case
+          DTypes ts -> forM_ ts $ \t -> TIO.putStrLn ("TYPE " <> tdName t)
+          DGlobals b -> TIO.putStrLn ("VAR_GLOBAL " <> T.intercalate ", " (concatMap (map snd . vdNames) (vbDecls b)))
+          DPou p -> TIO.putStrLn (kindWord (pouKind p) <> " " <> pouName p <> " (" <> T.pack (show (length (pouBody p))) <> " statements)")
+          DConfig c -> TIO.putStrLn ("CONFIGURATION " <> cfgName c <> ": " <> T.intercalate ", " [pcInstance pc <> " : " <> pcType pc | r <- cfgResources c, pc <- resPrograms r])
+        pure ExitSuccess
+  where
+    kindWord = \case
+      KFunction -> "FUNCTION"
+      KFunctionBlock -> "FUNCTION_BLOCK"
+      KProgram -> "PROGRAM"
 
 -- | @stref check --dialect tecomat FILE@: parse and check the unit.
 checkIec :: Policies -> FilePath -> Text -> IO ExitCode

@@ -12,6 +12,8 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import System.IO.Error (ioeGetErrorString, isDoesNotExistError)
+import Cmd.Common (readSource)
+import Cmd.Iec (dialectPolicies, isIecDialect, parseIec)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Policy (mastertoolXE, setPolicy)
 import Stref.Syntax (Module, Pos)
@@ -23,6 +25,7 @@ data Options = Options
   { _optFile :: FilePath
   , _optAst :: Bool
   , _optPolicies :: [String]
+  , _optDialect :: String
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -38,9 +41,22 @@ options =
     <$> strArgument (metavar "FILE" <> help "The ST source file")
     <*> switch (long "ast" <> help "Print the syntax tree instead of the normalised program")
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. nested-comments=yes or elsif-keyword=ELSIF"))
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat (an IEC dialect prints the declarations of the unit, or its syntax tree with --ast)")
 
 run :: Options -> IO ExitCode
-run (Options file ast policyArgs) =
+run (Options file ast policyArgs dialect) = case dialectPolicies dialect policyArgs of
+  Left msg -> usage msg
+  Right pol | isIecDialect pol -> do
+    src <- readSource file
+    either usage (\s -> parseIec pol file s ast) src
+  Right _ -> runMasterTool file ast policyArgs
+  where
+    usage msg = do
+      hPutStrLn stderr ("stref parse: " <> T.unpack msg)
+      pure (ExitFailure 2)
+
+runMasterTool :: FilePath -> Bool -> [String] -> IO ExitCode
+runMasterTool file ast policyArgs =
   case foldM applyPolicy mastertoolXE policyArgs of
     Left msg -> usage msg
     Right policies -> do
