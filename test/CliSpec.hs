@@ -118,6 +118,10 @@ spec = describe "the stref command line" $ do
       (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--calls", "2", "VAR x : SINT := 126; END_VAR x := x + 1;"]
       code `shouldBe` ExitSuccess
       lines out `shouldContain` ["  MAIN.x = -128"]
+    it "eval --compare shows a snippet under every alternative of a policy, marking what differs (TC-OP-20)" $ do
+      (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--compare", "overflow", "VAR x : SINT := 127; y : INT; END_VAR x := x + 1; y := 3;"]
+      code `shouldBe` ExitSuccess
+      map words (lines out) `shouldContain` [["*", "MAIN.x", "127", "-128", "127"], ["*", "MAIN.y", "3", "3", "0"]]
     it "names an unknown dialect with the known ones, exit 2" $ do
       (code, _, err) <- stref ["run", "--dialect", "codesys", fixture "tecomat-counter.st"]
       code `shouldBe` ExitFailure 2

@@ -14,7 +14,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr)
 import Cmd.Common
-import Cmd.Iec (dialectPolicies, evalIec, isIecDialect)
+import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, isIecDialect)
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
 import Stref.Policy
@@ -75,7 +75,14 @@ observe full sr =
 run :: Options -> IO ExitCode
 run o = case dialectPolicies (optDialect o) (optPolicies o) of
   Left msg -> usageError "eval" msg
-  Right pol | isIecDialect pol -> evalIec pol (T.pack (optSnippet o)) (optCalls o)
+  Right pol | isIecDialect pol -> case optCompare o of
+    Nothing -> evalIec pol (T.pack (optSnippet o)) (optCalls o)
+    Just name -> case alternativesOf (T.pack name) pol of
+      Left msg -> usageError "eval" msg
+      Right alts -> do
+        let cols = [(alt, (\rows -> Observed rows False) <$> evalIecRows p (T.pack (optSnippet o)) (optCalls o)) | (alt, p) <- alts]
+        TIO.putStr (sideBySide (T.pack name) cols)
+        pure (if all ((== Nothing) . fmap obRows . snd) cols then ExitFailure 1 else ExitSuccess)
   Right _ -> runMasterTool o
 
 runMasterTool :: Options -> IO ExitCode

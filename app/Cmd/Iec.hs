@@ -8,6 +8,7 @@ module Cmd.Iec
   , parseIec
   , runIec
   , evalIec
+  , evalIecRows
   , RunIecOptions (..)
   ) where
 
@@ -182,3 +183,16 @@ evalIec :: Policies -> Text -> Int -> IO ExitCode
 evalIec pol snippet calls = do
   let src = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
   runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False)
+
+-- | The rows a snippet leaves (every variable, then the error), for
+-- @stref eval --dialect tecomat --compare POLICY@; Nothing when rejected.
+evalIecRows :: Policies -> Text -> Int -> Maybe [(Text, Text)]
+evalIecRows pol snippet calls =
+  let src = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
+   in case runProgram pol "<snippet>" src ProgramsOfConfiguration 10 [] (replicate (max 1 calls) []) of
+        Right (Right r) ->
+          Just
+            ( [(n, scalarText v) | (n, v) <- observedVariables r]
+                ++ [("error", maybe "none" (\(k, StopFault (Pos l _) f) -> faultKind f <> " in cycle " <> T.pack (show k) <> " at line " <> T.pack (show (l - 1))) (rrError r))]
+            )
+        _ -> Nothing
