@@ -12,7 +12,7 @@ module Stref.IEC.Check
   ) where
 
 import Control.Monad (forM, forM_, unless, when)
-import Control.Monad.Except (Except, runExcept, throwError)
+import Control.Monad.Except (Except, catchError, runExcept, throwError)
 import Control.Monad.Reader (ReaderT, asks, local, runReaderT)
 import Data.List (find, sortOn)
 import qualified Data.Map.Lazy as ML
@@ -25,7 +25,7 @@ import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
 import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
-import Stref.IEC.Standard (standardType)
+import Stref.IEC.Standard (standardParameters, standardType)
 import Stref.IEC.StandardFB (standardFBNames, standardFBs)
 import Stref.IEC.Syntax
 import Stref.IEC.Types
@@ -131,6 +131,10 @@ checkUnit pol choice (Unit decls) = runExcept $ do
         [p] -> pure [(pouName p, key (pouName p))]
         [] -> throwError (VerificationError "no-program" (Pos 1 1) "the file has no PROGRAM to run")
         (_ : p : _) -> throwError (VerificationError "several-programs" (pouPos p) "the file has several PROGRAMs and no CONFIGURATION: say which one runs")
+  forM_ configs $ \c -> forM_ (cfgResources c) $ \r ->
+    when (T.null (resName r)) $ case map taskPos (resTasks r) ++ map pcPos (resPrograms r) of
+      (tp : _) -> throwError (VerificationError "section-not-allowed" tp "TASK and PROGRAM ... WITH stand inside a RESOURCE ... END_RESOURCE (TC-CFG-8, TC-CFG-12)")
+      [] -> pure ()
   interval <- case configs of
     (c : _) -> pure (taskInterval c)
     [] -> pure Nothing
@@ -218,16 +222,16 @@ blockVars :: Maybe PouKind -> VarBlock -> C [VarInfo]
 blockVars kind b = do
   -- TC-VAR-19..25 (Tab.3.11): CONSTANT only on VAR and VAR_GLOBAL; RETAIN on
   -- VAR_GLOBAL, and on VAR as the manual's own example shows (TC-ERRATA-10)
-  when (vbConstant b && vbSection b `notElem` [SecVar, SecGlobal, SecExternal]) $
+  when (vbConstant b && vbSection b `notElem` [SecVar, SecGlobal]) $
     failC "section-not-allowed" (vbPos b) ("CONSTANT is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-19..25)")
   when (vbRetain b && vbSection b `notElem` [SecVar, SecGlobal]) $
     failC "section-not-allowed" (vbPos b) ("RETAIN is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-26)")
   when (isNothing kind && vbSection b /= SecGlobal) $
     failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is only allowed inside a POU")
-  concat <$> forM (vbDecls b) (declVars (vbSection b) (vbConstant b))
+  concat <$> forM (vbDecls b) (declVars kind (vbSection b) (vbConstant b))
 
-declVars :: Section -> Bool -> VarDecl -> C [VarInfo]
-declVars sec constant d = do
+declVars :: Maybe PouKind -> Section -> Bool -> VarDecl -> C [VarInfo]
+declVars kind sec constant d = do
   forM_ (vdNames d) $ \(p, n) -> when (reservedName n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
   ty <- resolveType (vdType d)
   when (sec == SecExternal && isJust (vdInit d)) $
@@ -239,6 +243,20 @@ declVars sec constant d = do
     _ -> pure ()
   when (isJust (vdAt d) && sec `notElem` [SecVar, SecGlobal]) $
     failC "section-not-allowed" (vdPos d) ("AT is not allowed in " <> sectionName sec)
+  -- TC-ADDR-7: the location of symbolic variables only in programs
+  when (isJust (vdAt d) && kind `elem` [Just KFunction, Just KFunctionBlock]) $
+    failC "section-not-allowed" (vdPos d) "AT gives a location to a variable only in a PROGRAM or among the globals (TC-ADDR-7)"
+  -- TC-POU-29: edge inputs belong to function blocks (and programs)
+  when (isJust (vdEdge d) && kind == Just KFunction) $
+    failC "section-not-allowed" (vdPos d) "R_EDGE and F_EDGE qualify the inputs of function blocks, not of functions (TC-POU-29)"
+  -- TC-POU-31: only variables, not FB instances, pass through VAR_IN_OUT
+  case ty of
+    TFB _ | sec == SecInOut -> failC "section-not-allowed" (vdPos d) "a function block instance cannot be passed through VAR_IN_OUT (TC-POU-31)"
+    _ -> pure ()
+  -- TC-ADDR-4, TC-ADDR-5: a BOOL lies at a bit address
+  case (vdAt d, ty) of
+    (Just l, TElem BOOL) | locationType l /= TElem BOOL -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
+    _ -> pure ()
   base <- resolveDefault (vdType d)
   initV <- maybe (pure base) (initialValue ty base) (vdInit d)
   case vdNames d of
@@ -384,13 +402,15 @@ initialValue ty base = \case
       let elemBase = case base of
             VArray _ xs | Just x <- Seq.lookup 0 xs -> x
             _ -> defaultValue t
+      let size = fromInteger (product [hi - lo + 1 | (lo, hi) <- bs]) :: Int
       vals <- concat <$> forM items (\(rep, i) -> do
         n <- maybe (pure 1) constInt rep
+        -- TC-TYPE-43: a repetition fits the array, checked before it is built
+        when (n < 0 || n > toInteger size) (failC "value-out-of-limits" p ("a repetition count of " <> T.pack (show n) <> " for an array of " <> T.pack (show size) <> " elements"))
         v <- case i of
           IArray _ [] -> pure elemBase
           _ -> initialValue t elemBase i
         pure (replicate (fromInteger n) v))
-      let size = fromInteger (product [hi - lo + 1 | (lo, hi) <- bs])
       when (length vals > size) (failC "value-out-of-limits" p "more initial values than array elements")
       pure (VArray bs (Seq.fromList (vals ++ replicate (size - length vals) elemBase)))
     _ -> failC "type-mismatch" p ("a list of initial values for " <> typeText ty <> ", which is not an array")
@@ -757,8 +777,14 @@ binaryExpr :: Maybe Type -> Pos -> BinOp -> Expr -> Expr -> C TExpr
 binaryExpr expected p o a b = do
   pol <- asks envPol
   let operandExpected = if o `elem` [BLt, BGt, BLe, BGe, BEq, BNe] then Nothing else expected
-  ta <- infer operandExpected a
-  tb <- infer operandExpected b
+  -- an operand whose type depends on its literals (ABS(1), 16#FF OR 16#0F)
+  -- takes the other operand's type, as an untyped literal does; the other
+  -- operand's type is read from its text (typeHint), so that nothing is
+  -- checked twice
+  hA <- typeHint 6 a
+  hB <- typeHint 6 b
+  ta <- infer ((hB >>= numericTarget) `orElse` operandExpected) a
+  tb <- infer ((hA >>= numericTarget) `orElse` operandExpected) b
   (ca, cb) <- case (isFlex ta, isFlex tb) of
     (True, False) -> (,) <$> adapt (ceType (fst tb)) ta <*> pure (fst tb)
     (False, True) -> (,) (fst ta) <$> adapt (ceType (fst ta)) tb
@@ -773,6 +799,7 @@ binaryExpr expected p o a b = do
       | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
       | otherwise -> failC "type-mismatch" p (msg <> " (TC-CONV-1: operands of one type)")
   where
+    orElse x y = maybe y Just x
     numericTarget t = case baseElem t of
       Just e | isAnyNum e || isBitString e -> Just t
       _ -> Nothing
@@ -787,6 +814,38 @@ binaryExpr expected p o a b = do
             | implicitAllowed (pImplicitConversions pol) x y -> pure (CExpr (cePos ca) (ceType cb) (CConvert (ceType cb) ca), cb)
             | implicitAllowed (pImplicitConversions pol) y x -> pure (ca, CExpr (cePos cb) (ceType ca) (CConvert (ceType ca) cb))
           _ -> pure (ca, cb)
+
+-- | The type an expression evidently has, read from its text without
+-- checking it (a variable's declared type, a typed literal, a conversion's
+-- result), looking at most @depth@ levels down; Nothing when it depends on
+-- untyped literals only or the text has errors.
+typeHint :: Int -> Expr -> C (Maybe Type)
+typeHint depth e
+  | depth <= 0 = pure Nothing
+  | otherwise = case e of
+      EVar {} -> viaRef
+      EField {} -> viaRef
+      EIndex {} -> viaRef
+      ELocated _ l -> pure (Just (locationType l))
+      ELit p (LTyped t _) -> (Just <$> resolveType (TSName p t)) `catchError` const (pure Nothing)
+      EUn _ UNot x -> typeHint (depth - 1) x
+      EUn _ _ x -> typeHint (depth - 1) x
+      EBin _ o x y
+        | o `elem` [BLt, BGt, BLe, BGe, BEq, BNe] -> pure (Just (TElem BOOL))
+        | otherwise -> typeHint (depth - 1) x >>= maybe (typeHint (depth - 1) y) (pure . Just)
+      ECall _ f args -> case conversionName (key f) of
+        Just (_, to) -> pure (Just (TElem to))
+        Nothing -> do
+          pous <- asks envPous
+          varsOf <- asks envVarsOf
+          case M.lookup (key f) pous of
+            Just pou | pouKind pou == KFunction -> pure (viType <$> find ((== key f) . viKey) (M.findWithDefault [] (key f) varsOf))
+            _ -> firstJust [x | ArgPositional x <- args]
+      _ -> pure Nothing
+  where
+    viaRef = (Just . (\(_, t, _) -> t) <$> checkRef e) `catchError` const (pure Nothing)
+    firstJust [] = pure Nothing
+    firstJust (x : xs) = typeHint (depth - 1) x >>= maybe (firstJust xs) (pure . Just)
 
 -- | A function call in an expression: a conversion, a standard function or
 -- a user FUNCTION.
@@ -849,14 +908,17 @@ callStandard expected p f args = do
         tes <- mapM (infer (expected >>= numericLike)) a
         let nonFlex = [ceType c | (c, Fixed) <- tes]
             candidates = [Just t | t <- take 1 nonFlex] ++ [expected >>= numericLike, Nothing]
-        r <- firstOk pol tes candidates
+        r <- firstOk pol False tes candidates >>= maybe (firstOk pol True tes candidates) (pure . Just)
         case r of
           Just (cs, t) -> fixed p t (CStandard k cs)
           Nothing -> do
             cs <- mapM settle tes
             case standardType pol k (map ceType cs) of
               Nothing -> failC "undeclared-function" p ("the function " <> f <> " is not declared")
-              Just (Left msg) -> failC "type-mismatch" p msg
+              Just (Left msg)
+                | Just names <- standardParameters k (length cs), length cs > length names -> failC "too-many-arguments" p msg
+                | Just names <- standardParameters k (length cs), length cs < length names -> failC "too-few-arguments" p msg
+                | otherwise -> failC "type-mismatch" p msg
               Just (Right t) -> fixed p t (CStandard k cs)
   where
     numericLike t = case baseElem t of
@@ -864,18 +926,41 @@ callStandard expected p f args = do
       _ -> Nothing
     resultOf to cx = case (to, ceType cx) of
       _ -> TElem to
-    positionalOnly = forM args $ \case
-      ArgPositional e -> pure e
-      ArgInput _ _ e -> pure e
-      ArgOutput ap _ _ -> failC "not-a-function-block" ap "=> binds outputs of function blocks only"
-    firstOk _ _ [] = pure Nothing
-    firstOk pol tes (c : cs) = do
-      attempt <- forM tes $ \te@(ce, _) -> case c of
-        Just t | isFlex te -> coerceLit t te
-        _ -> if isFlex te then Just <$> settle te else pure (Just ce)
-      case sequence attempt of
-        Just xs | Just (Right t) <- standardType pol (key f) (map ceType xs) -> pure (Just (xs, t))
-        _ -> firstOk pol tes cs
+    -- TC-POU-11: formal arguments in any order, placed by their names
+    positionalOnly = case [a | a@ArgInput {} <- args] of
+      [] -> forM args $ \case
+        ArgPositional e -> pure e
+        ArgInput _ _ e -> pure e
+        ArgOutput ap _ _ -> failC "not-a-function-block" ap "=> binds outputs of function blocks only"
+      formal -> do
+        when (length formal /= length args) (failC "mixed-arguments" p ("the call of " <> f <> " mixes formal and positional arguments (TC-POU-12)"))
+        case standardParameters (key f) (length formal) of
+          Nothing -> pure [e | ArgInput _ _ e <- formal]
+          Just names -> forM names $ \n -> case [e | ArgInput _ m e <- formal, key m == n] of
+            [e] -> pure e
+            _ -> failC "unknown-parameter" p (f <> " takes the inputs " <> T.intercalate ", " names)
+    -- each untyped literal argument takes the candidate type or its own
+    -- default (SHL(16#0F, 1) into a BYTE: IN is BYTE, N stays DINT); the
+    -- first combination the function accepts wins
+    -- first every untyped literal takes the candidate type (SEL(g, 10, 20)
+    -- into an INT); then, mixing, each takes the candidate or its default
+    -- (SHL(16#0F, 1) into a BYTE: IN is BYTE, N stays DINT)
+    firstOk _ _ _ [] = pure Nothing
+    firstOk pol mixing tes (c : cs) = do
+      options <- forM tes $ \te@(ce, _) ->
+        if isFlex te
+          then do
+            typed <- maybe (pure Nothing) (`coerceLit` te) c
+            settled <- settle te
+            pure $ case (typed, mixing) of
+              (Just x, True) -> [x, settled]
+              (Just x, False) -> [x]
+              (Nothing, True) -> [settled]
+              (Nothing, False) -> [settled | c == Nothing]
+          else pure [ce]
+      case [(xs, t) | xs <- take 64 (sequence options), Just (Right t) <- [standardType pol (key f) (map ceType xs)]] of
+        (r : _) -> pure (Just r)
+        [] -> firstOk pol mixing tes cs
     userCall pou = do
       vars <- asks (fromMaybe [] . M.lookup (key (pouName pou)) . envVarsOf)
       (inputs, inouts, outputs) <- bindArgs p (pouName pou) vars args
@@ -952,7 +1037,15 @@ checkCallStmt p callee args = do
       Just pou -> pouKind pou == KFunction
       Nothing -> key n `elem` standardFunctionNames || isJust (conversionName (key n))
     fbCall = do
-      (ref, ty, _) <- checkRef callee
+      pous' <- asks envPous
+      case callee of
+        EVar _ n | Just pou <- M.lookup (key n) pous', pouKind pou == KProgram ->
+          failC "program-call" p ("the PROGRAM " <> n <> " is run by a task; a POU cannot call it (TC-POU-44)")
+        _ -> pure ()
+      (ref, ty, access) <- checkRef callee
+      case access of
+        Hidden why -> failC "read-not-allowed" p why -- TC-POU-23
+        _ -> pure ()
       case ty of
         TFB fb -> do
           vars <- fbVars fb

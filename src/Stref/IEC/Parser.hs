@@ -234,6 +234,7 @@ readIn base = T.foldl' (\acc c -> acc * toInteger base + toInteger (digitToInt c
 -- | Integer and real literals (TC-LEX-20..23).
 number :: Policies -> Parser Literal
 number pol = lexeme pol $ do
+  start <- getOffset
   intPart <- digitsIn 10
   based <- optional (try (char '#' *> lookAhead (satisfy isHexDigit)))
   case based of
@@ -251,8 +252,13 @@ number pol = lexeme pol $ do
           let f = fromMaybe "" frac
               mant = toRational (readIn 10 (intPart <> f)) / (10 ^ T.length f)
               e = fromMaybe 0 ex
+          -- decided before the exact value is built: 1.0E999999999 must not
+          -- cost time or memory (docs/robustness.md)
+          when (abs e > 4000 || T.length intPart + T.length f > 4000) $
+            failAt start "value-out-of-limits" "this real literal lies far outside the range of LREAL"
+          let
               v = if e >= 0 then mant * 10 ^ e else mant / 10 ^ negate e
-          pure (LReal v (intPart <> maybe "" ("." <>) frac <> maybe "" (\x -> "E" <> T.pack (show x)) ex))
+           in pure (LReal v (intPart <> maybe "" ("." <>) frac <> maybe "" (\x -> "E" <> T.pack (show x)) ex))
   where
     exponentP = do
       sign <- optional (satisfy (`elem` ("+-" :: String)))
@@ -397,6 +403,12 @@ location pol = lexeme pol $ do
   area <- satisfy (`elem` ("IQMXYSRiqmxysr" :: String)) <|> failAt off "invalid-operand" "% must be followed by I, Q, M (or Tecomat's X, Y, S, R)"
   size <- optional (satisfy (`elem` ("XBWDLxbwdl" :: String)))
   nums <- (readIn 10 <$> digitsIn 10) `sepBy1` char '.'
+  -- TC-ADDR-1: a bit number is one of the 8 bits of its byte; addresses
+  -- are kept within 16 bits so that no address builds a huge number
+  case nums of
+    [_, b] | b > 7 -> failAt off "value-out-of-limits" ("bit " <> T.pack (show b) <> " does not exist: a byte has the bits 0 to 7")
+    _ | any (> 65535) nums || length nums > 2 -> failAt off "value-out-of-limits" "a direct address has a byte number up to 65535 and an optional bit number"
+    _ -> pure ()
   let a = toUpperC area
       sz = maybe ' ' toUpperC size
       txt = "%" <> T.singleton a <> (if sz == ' ' then "" else T.singleton sz) <> T.intercalate "." (map (T.pack . show) nums)
@@ -743,7 +755,7 @@ unary :: Policies -> Parser Expr
 unary pol = do
   p <- pos
   choice
-    [ EUn p UNeg <$> (try (symbol pol "-" <* notFollowedBy (char '-')) *> unary pol)
+    [ EUn p UNeg <$> (symbol pol "-" *> unary pol)
     , EUn p UPlus <$> (symbol pol "+" *> unary pol)
     , EUn p UNot <$> (kw pol "NOT" *> unary pol)
     , power pol
