@@ -106,13 +106,13 @@ spec = describe "IEC.Engine" $ do
       runMain tecomat {pIndexOutOfRange = IndexClamp} body 1 "a[3]" `shouldBe` Right (VInt INT 7)
   describe "values of the protocol (corpus-format 4.2)" $ do
     it "compares times by value: T#95s equals T#1m35s" $
-      scalarsMatch (TElem TIME) (SText "T#95s") (SText "T#1m35s") `shouldBe` True
+      scalarsMatch tecomat (TElem TIME) (SText "T#95s") (SText "T#1m35s") `shouldBe` True
     it "compares REAL as binary32: 0.1 matches the binary32 nearest to 0.1 written in full" $
-      scalarsMatch (TElem REAL) (SNumber 0.1) (SNumber 0.100000001490116119384765625) `shouldBe` True
+      scalarsMatch tecomat (TElem REAL) (SNumber 0.1) (SNumber 0.100000001490116119384765625) `shouldBe` True
     it "compares LREAL as binary64: the same two differ" $
-      scalarsMatch (TElem LREAL) (SNumber 0.1) (SNumber 0.100000001490116119384765625) `shouldBe` False
+      scalarsMatch tecomat (TElem LREAL) (SNumber 0.1) (SNumber 0.100000001490116119384765625) `shouldBe` False
     it "reads a bit string's negative number as its pattern: -1 is WORD 16#FFFF" $
-      scalarsMatch (TElem WORD) (SNumber (-1)) (SNumber 65535) `shouldBe` True
+      scalarsMatch tecomat (TElem WORD) (SNumber (-1)) (SNumber 65535) `shouldBe` True
     it "rejects a path that is not a variable path" $
       parseVarPath "MAIN..x" `shouldSatisfy` isLeft
     it "parses nested paths with indices" $

@@ -208,7 +208,7 @@ varComparison pol c ex = case caseIec c of
   Just setup ->
     let types = observedTypes pol (caseSource c) (iecProgram setup) (M.keys (exVars ex))
      in \name v s -> case M.lookup name types of
-          Just t -> scalarsMatch t (iecScalar v) s
+          Just t -> scalarsMatch pol t (iecScalar v) s
           Nothing -> False
 
 -- | The request for a case, observing exactly what the expectation names.

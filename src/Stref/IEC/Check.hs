@@ -11,7 +11,7 @@ module Stref.IEC.Check
   , standardFunctionNames
   ) where
 
-import Control.Monad (forM, forM_, unless, when)
+import Control.Monad (foldM, forM, forM_, unless, when)
 import Control.Monad.Except (Except, catchError, runExcept, throwError)
 import Control.Monad.Reader (ReaderT, asks, local, runReaderT)
 import Data.List (find, sortOn)
@@ -20,6 +20,8 @@ import qualified Data.Map.Strict as M
 import Data.Maybe (catMaybes, fromMaybe, isJust, isNothing)
 import qualified Data.Sequence as Seq
 import qualified Data.Set as Set
+import qualified Data.Set as S
+import Control.Applicative ((<|>))
 import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
@@ -94,22 +96,27 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   let topNames = [(tdPos t, tdName t) | t <- typeDecls] ++ [(pouPos p, pouName p) | p <- pous]
   forM_ topNames $ \(p, n) -> when (reservedName n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
   checkDuplicates topNames
-  let env0 =
+  checkRecursion True pous globalBlocks -- before instances are built from their declarations
+  let envBase =
         Env
           { envPol = pol
           , envTypes = M.fromList [(key (tdName t), t) | t <- typeDecls]
           , envPous = M.fromList [(key (pouName p), p) | p <- pous]
           , envStd = std
-          , envVarsOf = varsOf
+          , envVarsOf = M.empty
           , envGlobals = M.empty
           , envPou = Nothing
           , envLocals = M.empty
           , envLoop = False
           , envTypeDepth = 0
           }
+  -- global CONSTANTs, which declarations may use (array bounds, initial
+  -- values: TC-VAR-18, TC-VAR-31); computed before the POUs' variables
+  constants <- runReaderT (concat <$> mapM (blockVars Nothing) [b | b <- globalBlocks, vbConstant b]) envBase
+  let env0 = envBase {envGlobals = M.fromList [(viKey v, v) | v <- constants], envVarsOf = varsOf}
       -- the variables of every POU, resolved once; laziness lets an FB's
       -- instance value use the variables of the FBs it contains
-      varsOfE = ML.fromList [(key (pouName p), runExcept (runReaderT (pouVariables p) env0 {envVarsOf = varsOf})) | p <- pous]
+      varsOfE = ML.fromList [(key (pouName p), runExcept (runReaderT (pouVariables p) env0)) | p <- pous]
       varsOf = ML.map (either (const []) id) varsOfE
   -- report the first error in a POU's declarations
   forM_ pous $ \p -> either throwError (const (pure ())) (varsOfE M.! key (pouName p))
@@ -117,7 +124,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   checkDuplicates [(viPos v, viName v) | v <- globals]
   let env1 = env0 {envGlobals = M.fromList [(viKey v, v) | v <- globals]}
   defs <- forM pous $ \p -> runReaderT (checkPou p) env1 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)]}
-  checkRecursion pous
+  checkRecursion False pous globalBlocks
   instances <- case choice of
     AllPrograms -> pure [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram]
     ProgramNamed n -> case find ((== key n) . key . pouName) pous of
@@ -374,7 +381,9 @@ constInt e = do
 constValue :: Maybe Type -> Expr -> C Value
 constValue expected e = do
   ce <- checkExprAt expected e
-  evalConst ce
+  -- TC-TYPE-23, TC-CONV-1: an initial value has the variable's type
+  ce' <- maybe (pure ce) (`assignable` ce) expected
+  evalConst ce'
 
 evalConst :: CExpr -> C Value
 evalConst ce = do
@@ -428,6 +437,13 @@ fitStore p ty v = case (ty, v) of
   (TSubrange _ lo hi, VInt e n)
     | n < lo || n > hi -> failC "value-out-of-limits" p ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi))
     | otherwise -> pure (VInt e n)
+  -- TC-TYPE-27: a string cut to its capacity (policy string-overflow)
+  (TString _ cap, VString str)
+    | T.length str > cap -> do
+        pol <- asks envPol
+        case pStringOverflow pol of
+          StringTruncate -> pure (VString (T.take cap str))
+          StringOverflowError -> failC "value-out-of-limits" p ("the initial string has " <> T.pack (show (T.length str)) <> " characters; the variable holds " <> T.pack (show cap))
   _ -> pure v
 
 ------------------------------------------------------------------------------
@@ -486,7 +502,7 @@ checkStmt = \case
     e <- checkExprAt (Just ty) end >>= assignable ty
     st <- traverse (\x -> checkExprAt (Just ty) x >>= assignable ty) step
     b <- local (\env -> env {envLoop = True}) (checkStmts body)
-    pure (Just (CFor p ref s e st b))
+    pure (Just (CFor p ref ty s e st b))
   SWhile p c body -> do
     c' <- condition c
     Just . CWhile p c' <$> local (\env -> env {envLoop = True}) (checkStmts body)
@@ -971,7 +987,7 @@ callStandard expected p f args = do
 -- | Arguments against a POU's parameters (TC-POU-11, TC-POU-33..36):
 -- positional in the order of the inputs (and in-outs), or formal; never
 -- both (TC-POU-12).
-bindArgs :: Pos -> Text -> [VarInfo] -> [Arg] -> C ([(Text, CExpr)], [(Text, CRef)], [(Text, CRef)])
+bindArgs :: Pos -> Text -> [VarInfo] -> [Arg] -> C ([(Text, CExpr)], [(Text, CRef)], [(Text, CRef, Type)])
 bindArgs p callee vars args = do
   let positional = [e | ArgPositional e <- args]
       formal = [a | a <- args, not (isPositional a)]
@@ -1000,14 +1016,16 @@ bindArgs p callee vars args = do
   inouts <- fmap catMaybes $ forM named $ \(k, a) -> case (a, find ((== k) . viKey) vars) of
     (Left e, Just v) | viSection v == SecInOut -> do
       (ref, ty) <- checkTarget e
-      unless (sameType ty (viType v)) (failC "type-mismatch" (exprPos e) ("the in-out parameter " <> viName v <> " takes a variable of type " <> typeText (viType v)))
+      -- TC-VAR-3, TC-VAR-4: by reference, so the very type (a STRING's
+      -- capacity, a subrange's bounds)
+      unless (ty == viType v) (failC "type-mismatch" (exprPos e) ("the in-out parameter " <> viName v <> " takes a variable of type " <> typeText (viType v) <> ", not " <> typeText ty))
       pure (Just (k, ref))
     _ -> pure Nothing
   outs <- fmap catMaybes $ forM named $ \(k, a) -> case (a, find ((== k) . viKey) vars) of
     (Right e, Just v) -> do
       (ref, ty) <- checkTarget e
       unless (sameType ty (viType v)) (failC "type-mismatch" (exprPos e) ("the output " <> viName v <> " is a " <> typeText (viType v) <> ", bound to a " <> typeText ty))
-      pure (Just (k, ref))
+      pure (Just (k, ref, ty))
     _ -> pure Nothing
   let missingInOut = [v | v <- params, viSection v == SecInOut, viKey v `notElem` map fst inouts]
   case missingInOut of
@@ -1054,41 +1072,70 @@ checkCallStmt p callee args = do
         TProgram _ -> failC "program-call" p "a PROGRAM cannot be called from a POU (TC-POU-44)"
         _ -> failC "not-a-function-block" (exprPos callee) ("this is not a function block instance but a " <> typeText ty)
 
--- | TC-POU-2: no POU calls itself, directly or through others.
-checkRecursion :: [Pou] -> Except VerificationError ()
-checkRecursion pous = mapM_ visit pous
+-- | TC-POU-2: no POU calls itself, directly or through others (also through
+-- a global FB instance or an instance inside another); and no function
+-- block contains an instance of itself. One depth-first walk over the call
+-- graph (linear in its size): the first call that closes a cycle is the
+-- error.
+checkRecursion :: Bool -> [Pou] -> [VarBlock] -> Except VerificationError ()
+checkRecursion containment pous globalBlocks =
+  if containment then walk "recursive-type" containEdges else walk "recursive-call" callEdges
   where
     byKey = M.fromList [(key (pouName p), p) | p <- pous]
-    fbTypes p = M.fromList [(key n, key t) | b <- pouVars p, d <- vbDecls b, TSName _ t <- [vdType d], (_, n) <- vdNames d]
-    edges p = [(key n, pos') | (pos', n) <- calls p, M.member (key n) byKey]
-    calls p = concatMap (stmtCalls (fbTypes p)) (pouBody p)
-    visit p = go [key (pouName p)] p
-    -- a call that leads back to the POU the walk started from
-    go path p = forM_ (edges p) $ \(callee, pos') ->
-      if callee == head path
-        then throwError (VerificationError "recursive-call" pos' (pouName p <> " calls " <> callee <> ", which leads back to " <> head path <> ": POUs are not recursive (TC-POU-2)"))
-        else unless (callee `elem` path) (maybe (pure ()) (go (path ++ [callee])) (M.lookup callee byKey))
-    stmtCalls fbt = \case
-      SAssign _ a b -> exprCalls fbt a ++ exprCalls fbt b
-      SCall p (EVar _ n) args -> (p, M.findWithDefault n (key n) fbt) : concatMap (argCalls fbt) args
-      SCall _ e args -> exprCalls fbt e ++ concatMap (argCalls fbt) args
-      SIf _ arms els -> concat [exprCalls fbt c ++ concatMap (stmtCalls fbt) b | (c, b) <- arms] ++ concatMap (stmtCalls fbt) els
-      SCase _ s arms els -> exprCalls fbt s ++ concatMap (concatMap (stmtCalls fbt) . snd) arms ++ concatMap (stmtCalls fbt) els
-      SFor _ _ a b c body -> concatMap (exprCalls fbt) ([a, b] ++ maybe [] pure c) ++ concatMap (stmtCalls fbt) body
-      SWhile _ c b -> exprCalls fbt c ++ concatMap (stmtCalls fbt) b
-      SRepeat _ b c -> exprCalls fbt c ++ concatMap (stmtCalls fbt) b
-      _ -> []
-    argCalls fbt = \case
-      ArgPositional e -> exprCalls fbt e
-      ArgInput _ _ e -> exprCalls fbt e
-      ArgOutput {} -> []
-    exprCalls fbt = \case
-      ECall p n args -> (p, n) : concatMap (argCalls fbt) args
-      EUn _ _ a -> exprCalls fbt a
-      EBin _ _ a b -> exprCalls fbt a ++ exprCalls fbt b
-      EField _ a _ -> exprCalls fbt a
-      EIndex _ a is -> exprCalls fbt a ++ concatMap (exprCalls fbt) is
-      _ -> []
+    isPou t = M.member (key t) byKey
+    -- the FB type a declaration holds, directly or as array elements
+    fbOf = \case
+      TSName _ t | isPou t -> Just (key t)
+      TSArray _ _ t -> fbOf t
+      _ -> Nothing
+    declTypes blocks = M.fromList [(key n, t) | b <- blocks, d <- vbDecls b, Just t <- [fbOf (vdType d)], (_, n) <- vdNames d]
+    globalTypes = declTypes globalBlocks
+    varTypesOf t = maybe M.empty (declTypes . pouVars) (M.lookup t byKey)
+    containEdges p = [(t, vdPos d) | pouKind p == KFunctionBlock, b <- pouVars p, d <- vbDecls b, Just t <- [fbOf (vdType d)]]
+    callEdges p =
+      let local = declTypes (pouVars p)
+          -- the FB type an expression names: a variable, an element, a field
+          calleeType = \case
+            EVar _ n -> M.lookup (key n) local <|> M.lookup (key n) globalTypes
+            EIndex _ e _ -> calleeType e
+            EField _ e f -> calleeType e >>= \t -> M.lookup (key f) (varTypesOf t)
+            _ -> Nothing
+          stmtCalls = \case
+            SAssign _ a b -> exprCalls a ++ exprCalls b
+            SCall q e args -> [(t, q) | Just t <- [calleeType e]] ++ [(key n, q) | EVar _ n <- [e], isPou n] ++ exprCalls e ++ concatMap argCalls args
+            SIf _ arms els -> concat [exprCalls c ++ concatMap stmtCalls b | (c, b) <- arms] ++ concatMap stmtCalls els
+            SCase _ sel arms els -> exprCalls sel ++ concatMap (concatMap stmtCalls . snd) arms ++ concatMap stmtCalls els
+            SFor _ _ a b c body -> concatMap exprCalls ([a, b] ++ maybe [] pure c) ++ concatMap stmtCalls body
+            SWhile _ c b -> exprCalls c ++ concatMap stmtCalls b
+            SRepeat _ b c -> exprCalls c ++ concatMap stmtCalls b
+            _ -> []
+          argCalls = \case
+            ArgPositional e -> exprCalls e
+            ArgInput _ _ e -> exprCalls e
+            ArgOutput {} -> []
+          exprCalls = \case
+            ECall q n args -> [(key n, q) | isPou n] ++ concatMap argCalls args
+            EUn _ _ a -> exprCalls a
+            EBin _ _ a b -> exprCalls a ++ exprCalls b
+            EField _ a _ -> exprCalls a
+            EIndex _ a is -> exprCalls a ++ concatMap exprCalls is
+            _ -> []
+       in concatMap stmtCalls (pouBody p)
+    walk kind edgesOf = go S.empty (map (key . pouName) pous)
+      where
+        go _ [] = pure ()
+        go done (r : rest)
+          | r `S.member` done = go done rest
+          | otherwise = visit done [r] r >>= \done' -> go done' rest
+        visit done path node = do
+          let out = maybe [] edgesOf (M.lookup node byKey)
+          foldM (step path node) (S.insert node done) out
+        step path node done (callee, q)
+          | callee `elem` path =
+              throwError (VerificationError kind q (nameOf node <> (if kind == "recursive-type" then " contains " else " calls ") <> nameOf callee <> ", which leads back to " <> nameOf callee <> ": POUs are not recursive (TC-POU-2)"))
+          | callee `S.member` done = pure done
+          | otherwise = visit done (callee : path) callee
+    nameOf k = maybe k pouName (M.lookup k byKey)
 
 -- | The type a direct address denotes (TC-ADDR-4, TC-ADDR-5): IEC sizes X
 -- (or none) a bit, B a byte, W a word, D a double word, L a long word;

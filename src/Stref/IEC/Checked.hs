@@ -103,7 +103,7 @@ data FBCall = FBCall
   , fcType :: Text -- ^ the FB's key
   , fcInputs :: [(Text, CExpr)]
   , fcInOuts :: [(Text, CRef)]
-  , fcOutputs :: [(Text, CRef)] -- ^ @out => v@: copied after the body (TC-POU-36)
+  , fcOutputs :: [(Text, CRef, Type)] -- ^ @out => v@ and v's type: copied after the body (TC-POU-36)
   }
 
 data CStmt
@@ -112,7 +112,7 @@ data CStmt
   | CEval Pos CExpr -- ^ a function called as a statement, its result dropped
   | CIf Pos [(CExpr, [CStmt])] [CStmt]
   | CCase Pos CExpr [([(Integer, Integer)], [CStmt])] [CStmt] -- ^ labels as ranges of ordinals
-  | CFor Pos CRef CExpr CExpr (Maybe CExpr) [CStmt]
+  | CFor Pos CRef Type CExpr CExpr (Maybe CExpr) [CStmt] -- ^ the control variable and its declared type
   | CWhile Pos CExpr [CStmt]
   | CRepeat Pos [CStmt] CExpr
   | CExit Pos

@@ -54,10 +54,15 @@ runProgram pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
   pure $ do
-    m0 <- foldM (setPath prog) (initialMachine prog) initial
+    m0 <- foldM (setPath pol prog) (initialMachine prog) initial
     let go m k err [] = Right (RunResult prog m err (k - 1))
         go m k err (sets : rest) = do
-          m1 <- foldM (setPath prog) m sets
+          -- lifetime = per-call: every cycle starts from the initial values
+          -- (MasterTool's model); retained: from the previous cycle's
+          let fresh = case pLifetime pol of
+                PerCall -> m {mGlobals = mGlobals m0, mPrograms = mPrograms m0}
+                Retained -> m
+          m1 <- foldM (setPath pol prog) fresh sets
           let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) m1
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
           case stop of
@@ -66,21 +71,21 @@ runProgram pol file src choice cycle initial calls = do
     go m0 1 Nothing calls
 
 -- | Write a variable or a located variable before a cycle.
-setPath :: Program -> Machine -> (Text, Scalar) -> Either Text Machine
-setPath prog m (path, s)
+setPath :: Policies -> Program -> Machine -> (Text, Scalar) -> Either Text Machine
+setPath pol prog m (path, s)
   | "%" `T.isPrefixOf` path = do
-      loc <- locationOf path
-      v <- scalarValue (locationType loc) s
+      loc <- locationOf pol path
+      v <- scalarValue pol (locationType loc) s
       Right (writeLocatedVar loc (locationType loc) v m)
   | otherwise = do
       steps <- parseVarPath path
       (_, t) <- maybe (Left ("the path " <> path <> " names no variable of the program")) Right (readVariablePath prog m steps)
       ty <- maybe (Left ("the type of " <> path <> " is not known")) Right t
-      v <- scalarValue ty s
+      v <- scalarValue pol ty s
       maybe (Left ("the path " <> path <> " cannot be written")) Right (writeVariablePath prog m steps v)
 
-locationOf :: Text -> Either Text Location
-locationOf t = case parseUnitExpr tecomat t of
+locationOf :: Policies -> Text -> Either Text Location
+locationOf pol t = case parseUnitExpr pol t of
   Right (ELocated _ l) -> Right l
   _ -> Left ("'" <> t <> "' is not a direct address such as %IX0.1 or %QW2")
 
@@ -117,7 +122,7 @@ observedTypes pol src program paths = case parseUnit pol "<case>" src >>= checkU
      in M.fromList (mapMaybe (\p -> (p,) <$> typeOf prog m p) paths)
   where
     typeOf prog m p
-      | "%" `T.isPrefixOf` p = either (const Nothing) (Just . locationType) (locationOf p)
+      | "%" `T.isPrefixOf` p = either (const Nothing) (Just . locationType) (locationOf pol p)
       | otherwise = either (const Nothing) Just (parseVarPath p) >>= readVariablePath prog m >>= snd
 
 -- | Answer one request of an IEC dialect.
@@ -137,7 +142,7 @@ iecEngine pol rq = either AnswerUnsupported id $ do
        in Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob)
   where
     observe r p
-      | "%" `T.isPrefixOf` p = case locationOf p of
+      | "%" `T.isPrefixOf` p = case locationOf pol p of
           Right l -> Just (valueScalar (readLocatedVar l (locationType l) (rrMachine r)))
           Left _ -> Nothing
       | otherwise = case parseVarPath p of
@@ -162,8 +167,8 @@ valueScalar = \case
   v -> SText (renderValue v)
 
 -- | A protocol value as a value of the type (literals parsed as ST).
-scalarValue :: Type -> Scalar -> Either Text Value
-scalarValue ty s = case (ty, s) of
+scalarValue :: Policies -> Type -> Scalar -> Either Text Value
+scalarValue pol ty s = case (ty, s) of
   (TElem BOOL, SBool b) -> Right (VBool b)
   (TElem e, SNumber n) | isInt e -> case integral n of
     Just i | fitInt e i -> Right (VInt e i)
@@ -176,9 +181,9 @@ scalarValue ty s = case (ty, s) of
   (TElem REAL, SNaN) -> Right (VReal (0 / 0))
   (TElem LREAL, SNaN) -> Right (VLReal (0 / 0))
   (TElem REAL, SBits w) -> Right (VReal (realFromBitsLocal w))
-  (TArray bs t, SList xs) -> VArray bs . foldr (\x acc -> x `seqCons` acc) mempty <$> mapM (scalarValue t) xs
-  (TStruct _ fs, SMap m) -> VStruct . M.fromList <$> mapM (\(k, x) -> maybe (Left ("no field " <> k)) (\t -> (T.toUpper k,) <$> scalarValue t x) (lookup (T.toUpper k) [(T.toUpper n, t) | (n, t) <- fs])) (M.toList m)
-  (_, SText t) -> literalValue ty t
+  (TArray bs t, SList xs) -> VArray bs . foldr (\x acc -> x `seqCons` acc) mempty <$> mapM (scalarValue pol t) xs
+  (TStruct _ fs, SMap m) -> VStruct . M.fromList <$> mapM (\(k, x) -> maybe (Left ("no field " <> k)) (\t -> (T.toUpper k,) <$> scalarValue pol t x) (lookup (T.toUpper k) [(T.toUpper n, t) | (n, t) <- fs])) (M.toList m)
+  (_, SText t) -> literalValue pol ty t
   _ -> Left ("the value does not fit the type " <> typeText ty)
   where
     integral n = case floatingOrInteger n :: Either Double Integer of
@@ -199,8 +204,8 @@ scientificToDouble n
   | otherwise = fromRational (toRational n)
 
 -- | An ST literal of §4.2 as a value of the type.
-literalValue :: Type -> Text -> Either Text Value
-literalValue ty t = case parseUnitExpr tecomat t of
+literalValue :: Policies -> Type -> Text -> Either Text Value
+literalValue pol ty t = case parseUnitExpr pol t of
   Left _ -> Left ("'" <> t <> "' is not an ST literal")
   Right e -> maybe (Left ("'" <> t <> "' is not a value of " <> typeText ty)) Right (fromExpr e)
   where
@@ -237,8 +242,8 @@ literalValue ty t = case parseUnitExpr tecomat t of
 -- | Do an expected and an answered value denote the same value of the type?
 -- REAL and LREAL compare by their binary32 and binary64 values (any NaN
 -- matches NaN); times by value; enumerated values by name.
-scalarsMatch :: Type -> Scalar -> Scalar -> Bool
-scalarsMatch ty a b = case (scalarValue ty a, scalarValue ty b) of
+scalarsMatch :: Policies -> Type -> Scalar -> Scalar -> Bool
+scalarsMatch pol ty a b = case (scalarValue pol ty a, scalarValue pol ty b) of
   (Right x, Right y) -> same x y
   _ -> False
   where

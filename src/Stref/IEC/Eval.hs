@@ -76,7 +76,9 @@ initialMachine prog =
       located =
         [(l, viType v, viInit v) | v <- prGlobals prog, Just l <- [viAt v]]
           ++ [(l, viType v, viInit v) | (_, t) <- prInstances prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
-      memory = foldl (\m (l, t, v) -> writeLocated l t v m) M.empty located
+      -- only explicit initial values: a default must not overwrite the
+      -- initial value of another variable at the same bytes
+      memory = foldl (\m (l, t, v) -> writeLocated l t v m) M.empty [x | x@(_, t, v) <- located, v /= defaultValue t]
    in Machine globals programs M.empty memory 0 0
 
 -- | One scan cycle at the given clock: each program instance in order.
@@ -115,6 +117,7 @@ callBody :: PouDef -> Eval ()
 callBody d = do
   self <- asks cxSelf
   forM_ [v | v <- pdVars d, viSection v == SecTemp] $ \v -> putPath (extend self (StepField (viKey v))) (viInit v)
+  levels <- edgesIn d self
   case pdBody d of
     Statements ss -> execBlock ss `catchError` \case
       SigReturn -> pure ()
@@ -127,6 +130,7 @@ callBody d = do
       case inst of
         VInstance n vars -> putPath self (VInstance n (f pol clock vars))
         _ -> pure ()
+  mapM_ (uncurry putPath) levels
 
 extend :: RefPath -> Step -> RefPath
 extend (RefPath r steps) s = RefPath r (steps ++ [s])
@@ -139,42 +143,58 @@ callFB p c = do
   prog <- asks cxProgram
   d <- maybe (fault p (Fault "call-depth" ("unknown function block " <> fcType c))) pure (lookupPou prog (fcType c))
   inputs <- forM (fcInputs c) $ \(k, e) -> (k,) <$> eval e
-  inouts <- forM (fcInOuts c) $ \(k, r) -> (k,) <$> refPath p r
+  inouts <- forM (fcInOuts c) $ \(k, r) -> (k,r,) <$> refPath p r
   inst <- refPath p (fcInstance c)
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend inst (StepField k)) v
-  forM_ inouts $ \(k, r) -> putPath (extend inst (StepField k)) (VRef r)
-  edgeInputs d inst (map fst inputs)
+  bindInOuts inst inouts
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
   local (\cx -> cx {cxSelf = inst, cxDepth = depth + 1}) (callBody d)
-  forM_ (fcOutputs c) $ \(k, r) -> do
+  copyBack inst inouts
+  forM_ (fcOutputs c) $ \(k, r, t) -> do
     v <- getPath (extend inst (StepField k))
     target <- refPath p r
-    storeRef p r target v
+    storeTarget p t r target v
 
 paramType :: PouDef -> Text -> Type
 paramType d k = maybe (TElem BOOL) viType (varByKey d k)
 
--- | R_EDGE / F_EDGE inputs (TC-POU-29): the body sees the edge of the
--- input's last assigned value, as an implicit R_TRIG / F_TRIG would give.
-edgeInputs :: PouDef -> RefPath -> [Text] -> Eval ()
-edgeInputs d inst assigned = do
+-- | R_EDGE / F_EDGE inputs (TC-POU-29): during the body the input reads as
+-- the output of an implicit R_TRIG / F_TRIG fed with the input's value
+-- (however it was set: by the call, by an assignment from outside, by its
+-- initial value); after the body the input holds that value again, so that
+-- an input not given at the next call keeps it (TC-POU-35). Returns what to
+-- put back.
+edgesIn :: PouDef -> RefPath -> Eval [(RefPath, Value)]
+edgesIn d inst = do
   pol <- asks cxPol
-  forM_ [(v, q) | v <- pdVars d, Just q <- [viEdge v]] $ \(v, q) -> do
+  forM [(v, q) | v <- pdVars d, Just q <- [viEdge v]] $ \(v, q) -> do
     let field = extend inst (StepField (viKey v))
-        rawField = extend inst (StepField (viKey v <> "$RAW"))
         memField = extend inst (StepField (viKey v <> "$M"))
-    raw <-
-      if viKey v `elem` assigned
-        then asBool <$> getPath field
-        else asBool <$> getPathOr rawField (VBool False)
+    raw <- getPath field
     m <- asBool <$> getPathOr memField (VBool (q == FEdge && pFTrigInitial pol == FTrigTrue))
-    let (out, m') = case q of
-          REdge -> (raw && not m, raw)
-          FEdge -> (not raw && not m, not raw)
-    putPath rawField (VBool raw)
+    let level = asBool raw
+        (out, m') = case q of
+          REdge -> (level && not m, level) -- TC-FB-16
+          FEdge -> (not level && not m, not level) -- TC-FB-15
     putPath memField (VBool m')
     putPath field (VBool out)
+    pure (field, raw)
+
+-- | VAR_IN_OUT (TC-VAR-3, TC-VAR-4): the parameter refers to the caller's
+-- variable; a located variable (which lives in bytes, not in the tree of
+-- values) is copied in and, after the body, back.
+bindInOuts :: RefPath -> [(Text, CRef, RefPath)] -> Eval ()
+bindInOuts base = mapM_ $ \(k, r, path) -> case r of
+  CLocated l t -> gets (readLocated l t . mMemory) >>= putPath (extend base (StepField k))
+  _ -> putPath (extend base (StepField k)) (VRef path)
+
+copyBack :: RefPath -> [(Text, CRef, RefPath)] -> Eval ()
+copyBack base = mapM_ $ \(k, r, _) -> case r of
+  CLocated l t -> do
+    v <- getPath (extend base (StepField k))
+    modify' (\m -> m {mMemory = writeLocated l t v (mMemory m)})
+  _ -> pure ()
 
 asBool :: Value -> Bool
 asBool = \case
@@ -190,14 +210,15 @@ callFunction p f ins inouts = do
   prog <- asks cxProgram
   d <- maybe (fault p (Fault "call-depth" ("unknown function " <> f))) pure (lookupPou prog f)
   inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
-  refs <- forM inouts $ \(k, r) -> (k,) <$> refPath p r
+  refs <- forM inouts $ \(k, r) -> (k,r,) <$> refPath p r
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
   let frame = RefPath (RootFrame (depth + 1)) []
   modify' (\m -> m {mFrames = M.insert (depth + 1) (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])) (mFrames m)})
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend frame (StepField k)) v
-  forM_ refs $ \(k, r) -> putPath (extend frame (StepField k)) (VRef r)
+  bindInOuts frame refs
   local (\cx -> cx {cxSelf = frame, cxDepth = depth + 1}) (callBody d)
+  copyBack frame refs
   result <- getPath (extend frame (StepField (key (pdName d))))
   modify' (\m -> m {mFrames = M.delete (depth + 1) (mFrames m)})
   pure result
@@ -234,7 +255,7 @@ exec = \case
     case find (\(ranges, _) -> any (\(lo, hi) -> o >= lo && o <= hi) ranges) arms of
       Just (_, b) -> execBlock b
       Nothing -> execBlock els
-  CFor p r start end step body -> forLoop p r start end step body
+  CFor p r t start end step body -> forLoop p r t start end step body
   CWhile p c body -> do
     -- TC-STMT-32
     let loop = do
@@ -277,11 +298,10 @@ ordinal t v = case (v, t) of
 -- as C's @for@ does). Where the addition leaves the type, @for-at-type-max@
 -- decides: stop, or follow the overflow policy (a wrap can make the loop
 -- endless: the watchdog).
-forLoop :: Pos -> CRef -> CExpr -> CExpr -> Maybe CExpr -> [CStmt] -> Eval ()
-forLoop p r start end step body = do
+forLoop :: Pos -> CRef -> Type -> CExpr -> CExpr -> Maybe CExpr -> [CStmt] -> Eval ()
+forLoop p r t start end step body = do
   pol <- asks cxPol
-  let t = ceType start
-      stepOf = maybe (pure (VInt (fromMaybe DINT (baseElem t)) 1)) eval step -- TC-STMT-22
+  let stepOf = maybe (pure (VInt (fromMaybe DINT (baseElem t)) 1)) eval step -- TC-STMT-22
   s0 <- eval start
   target <- refPath p r
   storeTarget p t r target s0
@@ -402,15 +422,6 @@ storeTarget p t r path v = do
   case r of
     CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v' (mMemory m)})
     _ -> putPath path v'
-
-storeRef :: Pos -> CRef -> RefPath -> Value -> Eval ()
-storeRef _ r path v = do
-  t <- case r of
-    CLocated _ t -> pure t
-    _ -> pure (TElem BOOL)
-  case r of
-    CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v (mMemory m)})
-    _ -> putPath path v
 
 storePath :: Pos -> Type -> RefPath -> Value -> Eval ()
 storePath p t path v = fitValue p t v >>= putPath path

@@ -20,7 +20,7 @@ import qualified Data.Set as Set
 import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Syntax
-import Stref.Policy (IdentifierLength (..), NestedComments (..), Policies (..))
+import Stref.Policy (ElsifKeyword (..), IdentifierLength (..), NestedComments (..), Policies (..))
 import Stref.Verification (VerificationError (..))
 import Text.Megaparsec hiding (Pos)
 import Text.Megaparsec.Char (char, string, string')
@@ -597,7 +597,13 @@ enders :: [Text]
 enders = ["END_IF", "ELSIF", "ELSE", "END_CASE", "END_FOR", "END_WHILE", "UNTIL", "END_REPEAT", "END_FUNCTION", "END_FUNCTION_BLOCK", "END_PROGRAM"]
 
 atEnder :: Policies -> Parser Bool
-atEnder pol = isJust <$> optional (lookAhead (choice (map (kw pol) enders)))
+atEnder pol = isJust <$> optional (lookAhead (choice (map (kw pol) enders) <|> elsifKw pol))
+
+-- | ELSIF, and ELSEIF where policy @elsif-keyword@ accepts it.
+elsifKw :: Policies -> Parser ()
+elsifKw pol = case pElsifKeyword pol of
+  ElsifOnly -> kw pol "ELSIF"
+  ElsifAndElseif -> kw pol "ELSIF" <|> kw pol "ELSEIF"
 
 statements :: Policies -> Parser [Stmt]
 statements pol = go []
@@ -638,7 +644,7 @@ statement pol = do
       c <- expr pol
       kw pol "THEN"
       b <- statements pol
-      elsifs <- many ((,) <$> (kw pol "ELSIF" *> expr pol <* kw pol "THEN") <*> statements pol)
+      elsifs <- many ((,) <$> (elsifKw pol *> expr pol <* kw pol "THEN") <*> statements pol)
       els <- option [] (kw pol "ELSE" *> statements pol)
       kw pol "END_IF"
       symbol pol ";"
@@ -705,13 +711,14 @@ caseLabels pol = label `sepBy1` symbol pol ","
       pure (maybe (CaseValue a) (CaseRange a) r)
     caseValue = do
       p <- pos
+      -- a based number (16#1F) before a typed value (Color#red)
       choice
-        [ prefixed pol
+        [ ELit p <$> number pol
         , do
             symbol pol "-"
             l <- number pol
             pure (EUn p UNeg (ELit p l))
-        , ELit p <$> number pol
+        , prefixed pol
         , EVar p <$> name pol
         ]
 
