@@ -45,9 +45,6 @@ isIntegral t = t `elem` [GSint, GInt, GDint, GUsint, GUint]
 isBits :: GType -> Bool
 isBits t = t `elem` [GByte, GWord]
 
-isReal :: GType -> Bool
-isReal t = t `elem` [GReal, GLreal]
-
 -- | The program's variables: two of each type, named by type.
 variables :: [(String, GType)]
 variables = [(prefix t ++ show i, t) | t <- [minBound .. maxBound], i <- [1, 2 :: Int]]
