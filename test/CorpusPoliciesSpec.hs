@@ -85,7 +85,9 @@ spec = do
   describe "the corpus under every policy alternative (reference, declared = run)" $
     mapM_ (sweep corpus) alternatives
   describe "the tecomat corpus under every policy alternative (the preset with one choice changed)" $
-    mapM_ (sweepDialect tecomatCorpus) (alternativesFrom tecomat ++ [("identifier-length", "unlimited")])
+    -- lifetime=per-call is the MasterTool controller's; the IEC engine answers
+    -- it with unsupported (IEC.EngineSpec checks that)
+    mapM_ (sweepDialect tecomatCorpus) (filter ((/= "lifetime") . fst) (alternativesFrom tecomat) ++ [("identifier-length", "unlimited")])
   describe "an engine that wraps on overflow, judged under the preset" $
     it "fails exactly the cases whose overflow=wrap expectation differs from expect" $ do
       bin <- strefBinary

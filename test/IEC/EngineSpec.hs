@@ -8,7 +8,9 @@ module IEC.EngineSpec (spec) where
 import Data.Either (isLeft)
 import Data.Text (Text)
 import qualified Data.Text as T
-import Stref.Conformance.Protocol (Scalar (..))
+import qualified Data.Map.Strict as M
+import Stref.Conformance.Protocol
+import Stref.Engine (referenceEngine)
 import Stref.IEC.Check (ProgramChoice (..))
 import Stref.IEC.Engine
 import Stref.IEC.Eval (Stop (..), readVariablePath)
@@ -119,5 +121,10 @@ spec = describe "IEC.Engine" $ do
       parseVarPath "MAIN.a[2, 3].f" `shouldBe` Right [StepField "MAIN", StepField "A", StepIndex [2, 3], StepField "F"]
     it "renders values as ST literals" $
       map renderValue [VTime TIME 95000, VTod 23599999, VDate (12 * msPerDay), VString "a'b"] `shouldBe` ["T#1m35s", "TOD#06:33:19.999", "D#1970-01-13", "'a$'b'"]
+    it "the IEC engine answers lifetime=per-call with unsupported: its state persists (TC-POU-15)" $ do
+      let rq = Request "stref-engine/1" "t" "tecomat" (M.fromList [("lifetime", "per-call")]) "PROGRAM MAIN\nEND_PROGRAM\n" "P" (PlcRequest (Declare M.empty M.empty) "" M.empty Nothing) [CallRequest (True, True, True) M.empty] (Observe [] [] [] True) Nothing Nothing
+      case referenceEngine [] rq of
+        AnswerUnsupported why -> why `shouldSatisfy` T.isInfixOf "per-call"
+        other -> expectationFailure (show other)
     it "the cycle must be a positive TIME" $
       cycleMillis tecomat "T#0ms" `shouldSatisfy` isLeft

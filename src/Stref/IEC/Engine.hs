@@ -57,12 +57,7 @@ runProgram pol file src choice cycle initial calls = do
     m0 <- foldM (setPath pol prog) (initialMachine prog) initial
     let go m k err [] = Right (RunResult prog m err (k - 1))
         go m k err (sets : rest) = do
-          -- lifetime = per-call: every cycle starts from the initial values
-          -- (MasterTool's model); retained: from the previous cycle's
-          let fresh = case pLifetime pol of
-                PerCall -> m {mGlobals = mGlobals m0, mPrograms = mPrograms m0}
-                Retained -> m
-          m1 <- foldM (setPath pol prog) fresh sets
+          m1 <- foldM (setPath pol prog) m sets
           let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) m1
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
           case stop of
@@ -128,6 +123,12 @@ observedTypes pol src program paths = case parseUnit pol "<case>" src >>= checkU
 -- | Answer one request of an IEC dialect.
 iecEngine :: Policies -> Request -> Answer
 iecEngine pol rq = either AnswerUnsupported id $ do
+  -- TC-POU-15, TC-VAR-7: the IEC model keeps program, FB and global state
+  -- from cycle to cycle; re-initialising every call is the MasterTool
+  -- controller's (policy lifetime), which this model does not have
+  if pLifetime pol == PerCall
+    then Left "lifetime=per-call belongs to the MasterTool controller; the IEC model keeps its state across cycles (TC-POU-15)"
+    else Right ()
   cycle <- cycleMillis pol (maybe "T#10ms" id (rqCycle rq))
   let choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
       initial = M.toList (prInit (rqPlc rq))
