@@ -122,6 +122,11 @@ spec = describe "the stref command line" $ do
       (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--compare", "overflow", "VAR x : SINT := 127; y : INT; END_VAR x := x + 1; y := 3;"]
       code `shouldBe` ExitSuccess
       map words (lines out) `shouldContain` [["*", "MAIN.x", "127", "-128", "127"], ["*", "MAIN.y", "3", "3", "0"]]
+    it "explore --compare finds generated programs whose result depends on the overflow policy and shrinks one to a few lines (TC-OP-20)" $ do
+      (code, out, _) <- stref ["explore", "--dialect", "tecomat", "--compare", "overflow", "--count", "50", "--seed", "7"]
+      code `shouldBe` ExitFailure 1
+      out `shouldSatisfy` ("overflow=wrap gives" `isInfixOf`)
+      length (takeWhile (/= "END_PROGRAM") (dropWhile (/= "PROGRAM MAIN") (lines out))) `shouldSatisfy` (<= 12)
     it "names an unknown dialect with the known ones, exit 2" $ do
       (code, _, err) <- stref ["run", "--dialect", "codesys", fixture "tecomat-counter.st"]
       code `shouldBe` ExitFailure 2

@@ -25,6 +25,8 @@ import System.Exit
 import System.FilePath (takeFileName, (</>))
 import System.IO (hFlush, hPutStrLn, stderr, stdout)
 import Stref.Checked (ArithOp (..))
+import Cmd.ExploreIec (ExploreIec (..), IecMode (..), exploreIec)
+import Cmd.Iec (dialectPolicies, isIecDialect)
 import Stref.Conformance.Runner (EngineSpec (..), RunOptions (..), askEngine, defaultRunOptions)
 import Stref.Engine (referenceEngine)
 import Stref.Explore.Run
@@ -51,6 +53,7 @@ data Options = Options
   , optShrinkBudget :: Int
   , optTimeout :: Double
   , optCalls :: Maybe Int
+  , optDialect :: String
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -75,6 +78,7 @@ options =
     <*> option auto (long "shrink-budget" <> metavar "N" <> value 400 <> showDefault <> help "At most N runs while shrinking one disagreement")
     <*> option auto (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Time limit of one engine run")
     <*> optional (option auto (long "calls" <> metavar "N" <> help "Module calls per program (default 1; 2 for --compare lifetime)"))
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect of the generated programs: mastertool-xe, or tecomat (IEC programs with FB instances, TIME, bit strings, over 1-4 cycles)")
   where
     mode =
       (AgainstEngine <$> strOption (long "engine" <> metavar "CMD" <> help "The engine command (request on stdin, answer on stdout)"))
@@ -94,7 +98,22 @@ explorationBudget :: Int
 explorationBudget = 200000
 
 run :: Options -> IO ExitCode
-run o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy k (T.drop 1 v) p) mastertoolXE (optPolicies o) of
+run o = case dialectPolicies (optDialect o) (optPolicies o) of
+  Left msg -> usage msg
+  Right pol | isIecDialect pol -> do
+    seed <- maybe (generate (choose (0, 999999))) pure (optSeed o)
+    let mode = case optMode o of
+          AgainstEngine cmd -> Just (IecEngine cmd)
+          ComparePolicy name -> Just (IecCompare (T.pack name))
+          PrintPrograms -> Just IecPrint
+          ComparePresets {} -> Nothing
+    case mode of
+      Nothing -> usage "--presets compares MasterTool XE presets; for tecomat use --compare POLICY"
+      Just m -> exploreIec pol {pStepBudget = min (pStepBudget pol) explorationBudget} (ExploreIec m (optCount o) seed (optSize o) (optShrinkBudget o) (optTimeout o))
+  Right _ -> runMasterTool o
+
+runMasterTool :: Options -> IO ExitCode
+runMasterTool o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy k (T.drop 1 v) p) mastertoolXE (optPolicies o) of
   Left msg -> usage msg
   Right reference0 -> do
     let reference = reference0 {pStepBudget = min (pStepBudget reference0) explorationBudget}

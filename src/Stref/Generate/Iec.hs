@@ -13,6 +13,7 @@ module Stref.Generate.Iec
   , genProgram
   , shrinkProgram
   , renderProgram
+  , renderCompact
   , observedPaths
   ) where
 
@@ -224,11 +225,39 @@ zeroOf = \case
 
 -- | The program as ST source.
 renderProgram :: GenProgram -> Text
-renderProgram (GenProgram body _) =
+renderProgram = renderWith (const True)
+
+-- | The program declaring only the variables its statements use: how a
+-- shrunk disagreement is shown (a few lines, not every declaration).
+renderCompact :: GenProgram -> Text
+renderCompact gp = renderWith (`elem` usedNames (gpBody gp)) gp
+
+usedNames :: [GStmt] -> [String]
+usedNames = concatMap stmtNames
+  where
+    stmtNames = \case
+      GAssign v e -> v : exprNames e
+      GIf c a b -> exprNames c ++ concatMap stmtNames (a ++ b)
+      GCase v arms els -> v : concatMap stmtNames (concatMap snd arms ++ els)
+      GFor _ _ _ b -> "kk" : concatMap stmtNames b
+      GTimer i p -> "t" : exprNames i ++ exprNames p
+      GCounter cu -> "c" : exprNames cu
+    exprNames = \case
+      GVar _ v -> [v]
+      GBin _ _ a b -> exprNames a ++ exprNames b
+      GUn _ _ a -> exprNames a
+      GConv _ _ a -> exprNames a
+      GCall _ _ as -> concatMap exprNames as
+      GTimerQ -> ["t"]
+      GCounterCV -> ["c"]
+      GLit {} -> []
+
+renderWith :: (String -> Bool) -> GenProgram -> Text
+renderWith declared (GenProgram body _) =
   T.pack . unlines $
     ["PROGRAM MAIN", "VAR"]
-      ++ ["  " ++ n ++ " : " ++ typeName t ++ ";" | (n, t) <- variables]
-      ++ ["  kk : INT;", "  t : TON;", "  c : CTU;", "END_VAR"]
+      ++ ["  " ++ n ++ " : " ++ ty ++ ";" | (n, ty) <- [(n, typeName t) | (n, t) <- variables] ++ [("kk", "INT"), ("t", "TON"), ("c", "CTU")], declared n]
+      ++ ["END_VAR"]
       ++ concatMap (stmt 0) body
       ++ ["END_PROGRAM"]
   where
