@@ -333,27 +333,14 @@ parseCase file origin knownRule src = do
     iecDialect = maybe False ((== IecController) . pModel) (lookupPreset (coDialect origin))
     mastertoolCaseFromYaml v = do
       o <- objectWith [] topKeys v
-      description <- required [] o "description" >>= text ["description"]
-      rules <- required [] o "rules" >>= textList ["rules"]
-      when (null rules) (failAt ["rules"] "a case must cite at least one rule")
-      forM_' rules $ \r -> unless (knownRule r) (failAt ["rules"] ("rule " <> r <> " is not in the dialect's RULES index"))
-      features <- optional o "features" (textList ["features"]) []
-      status <- optional o "status" (statusOf ["status"]) Normative
+      (description, rules, features, status) <- header o
       kind <- optional o "module" (moduleOf ["module"]) ProcedureModule
       plc <- optional o "plc" (plcOf ["plc"]) (PlcSetup defaultPlcConfig [] Nothing)
       let cfg = psConfig plc
       calls <- optional o "calls" (callsOf cfg ["calls"]) [CallSetup (True, True, True) []]
       expect <- optional o "expect" (expectOf cfg ["expect"] expectKeys) emptyExpect
       conds <- optional o "expect-if" (conditionals cfg ["expect-if"]) []
-      checkVerdict ["expect"] expect
-      forM_' (zip [0 :: Int ..] conds) $ \(i, c) -> do
-        checkVerdict ["expect-if", idx i] (cdExpect c)
-        -- what the entry means once laid over expect: a runtime-error
-        -- verdict must not inherit expect's @error: none@
-        case mergeExpect expect (cdExpect c) of
-          Expect {exVerdict = Just ExpRuntimeError, exError = Just ErrNone} ->
-            failAt ["expect-if", idx i] "verdict runtime-error, but the entry states no error and expect says error: none; state error: {code: ...}"
-          _ -> pure ()
+      checkExpectations "code" expect conds
       pure
         Case
           { caseId = coId origin
@@ -373,28 +360,37 @@ parseCase file origin knownRule src = do
           , caseIec = Nothing
           }
 
-    -- corpus-format §4.1: the IEC dialects' cases
-    iecCaseFromYaml v = do
-      o <- objectWith [] iecTopKeys v
+    -- the keys every dialect's case has
+    header o = do
       description <- required [] o "description" >>= text ["description"]
       rules <- required [] o "rules" >>= textList ["rules"]
       when (null rules) (failAt ["rules"] "a case must cite at least one rule")
       forM_' rules $ \r -> unless (knownRule r) (failAt ["rules"] ("rule " <> r <> " is not in the dialect's RULES index"))
       features <- optional o "features" (textList ["features"]) []
       status <- optional o "status" (statusOf ["status"]) Normative
+      pure (description, rules, features, status)
+    -- each verdict consistent; what an entry means once laid over expect: a
+    -- runtime-error verdict must not inherit expect's @error: none@
+    checkExpectations errorKey expect conds = do
+      checkVerdict ["expect"] expect
+      forM_' (zip [0 :: Int ..] conds) $ \(i, c) -> do
+        checkVerdict ["expect-if", idx i] (cdExpect c)
+        case mergeExpect expect (cdExpect c) of
+          Expect {exVerdict = Just ExpRuntimeError, exError = Just ErrNone} ->
+            failAt ["expect-if", idx i] ("verdict runtime-error, but the entry states no error and expect says error: none; state error: {" <> errorKey <> ": ...}")
+          _ -> pure ()
+
+    -- corpus-format §4.1: the IEC dialects' cases
+    iecCaseFromYaml v = do
+      o <- objectWith [] iecTopKeys v
+      (description, rules, features, status) <- header o
       program <- optional o "program" (fmap Just . text ["program"]) Nothing
       cycleText <- optional o "cycle" (text ["cycle"]) "T#10ms"
       initial <- optional o "plc" (\x -> objectWith ["plc"] ["init"] x >>= \po -> optional po "init" (iecValues ["plc", "init"]) []) []
       calls <- optional o "calls" (iecCallsOf ["calls"]) [[]]
       expect <- optional o "expect" (iecExpectOf ["expect"] iecExpectKeys) emptyExpect
       conds <- optional o "expect-if" (iecConditionals ["expect-if"]) []
-      checkVerdict ["expect"] expect
-      forM_' (zip [0 :: Int ..] conds) $ \(i, c) -> do
-        checkVerdict ["expect-if", idx i] (cdExpect c)
-        case mergeExpect expect (cdExpect c) of
-          Expect {exVerdict = Just ExpRuntimeError, exError = Just ErrNone} ->
-            failAt ["expect-if", idx i] "verdict runtime-error, but the entry states no error and expect says error: none; state error: {kind: ...}"
-          _ -> pure ()
+      checkExpectations "kind" expect conds
       pure
         Case
           { caseId = coId origin
