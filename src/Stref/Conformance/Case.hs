@@ -341,25 +341,28 @@ parseCase file origin knownRule src = do
       expect <- optional o "expect" (expectOf cfg ["expect"] expectKeys) emptyExpect
       conds <- optional o "expect-if" (conditionals cfg ["expect-if"]) []
       checkExpectations "code" expect conds
-      pure
-        Case
-          { caseId = coId origin
-          , caseFile = file
-          , caseDialect = coDialect origin
-          , caseArea = coArea origin
-          , caseSource = src
-          , caseDescription = description
-          , caseRules = rules
-          , caseFeatures = features
-          , caseStatus = status
-          , caseModule = kind
-          , casePlc = plc
-          , caseCalls = calls
-          , caseExpect = expect
-          , caseExpectIf = conds
-          , caseIec = Nothing
-          }
+      pure (caseOf (description, rules, features, status) expect conds) {caseModule = kind, casePlc = plc, caseCalls = calls}
 
+    -- a case from the keys every dialect has; MasterTool's controller
+    -- defaults (module P, the default layout, all inputs TRUE), no IEC setup
+    caseOf (description, rules, features, status) expect conds =
+      Case
+        { caseId = coId origin
+        , caseFile = file
+        , caseDialect = coDialect origin
+        , caseArea = coArea origin
+        , caseSource = src
+        , caseDescription = description
+        , caseRules = rules
+        , caseFeatures = features
+        , caseStatus = status
+        , caseModule = ProcedureModule
+        , casePlc = PlcSetup defaultPlcConfig [] Nothing
+        , caseCalls = [CallSetup (True, True, True) []]
+        , caseExpect = expect
+        , caseExpectIf = conds
+        , caseIec = Nothing
+        }
     -- the keys every dialect's case has
     header o = do
       description <- required [] o "description" >>= text ["description"]
@@ -391,24 +394,10 @@ parseCase file origin knownRule src = do
       expect <- optional o "expect" (iecExpectOf ["expect"] iecExpectKeys) emptyExpect
       conds <- optional o "expect-if" (iecConditionals ["expect-if"]) []
       checkExpectations "kind" expect conds
-      pure
-        Case
-          { caseId = coId origin
-          , caseFile = file
-          , caseDialect = coDialect origin
-          , caseArea = coArea origin
-          , caseSource = src
-          , caseDescription = description
-          , caseRules = rules
-          , caseFeatures = features
-          , caseStatus = status
-          , caseModule = ProcedureModule
-          , casePlc = PlcSetup defaultPlcConfig [] Nothing
-          , caseCalls = [CallSetup (True, True, True) [] | _ <- calls]
-          , caseExpect = expect
-          , caseExpectIf = conds
-          , caseIec = Just (IecSetup program cycleText initial calls)
-          }
+      pure (caseOf (description, rules, features, status) expect conds)
+        { caseCalls = [CallSetup (True, True, True) [] | _ <- calls]
+        , caseIec = Just (IecSetup program cycleText initial calls)
+        }
     iecTopKeys = ["description", "rules", "features", "status", "program", "cycle", "plc", "calls", "expect", "expect-if"]
     iecExpectKeys = ["verdict", "vars", "operands", "error", "reject"]
     iecCallsOf p = \case
