@@ -50,7 +50,7 @@ options =
     <*> option (eitherReader readFormat) (long "format" <> metavar "text|json|gcc" <> value FormatText <> help "How to print the errors (default text)")
     <*> option (eitherReader readKind) (long "module" <> metavar "P|F" <> value ProcedureModule <> help "Procedure (P, default) or function (F) module")
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. name-resolution=local-wins"))
-    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat")
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto")
   where
     readFormat = \case
       "text" -> Right FormatText

@@ -44,7 +44,7 @@ options =
     <$> strArgument (metavar "SNIPPET" <> help "e.g. 'VAR I : INT; END_VAR I := 32767 + 1;' or '7 / 2' (write -- before a snippet that starts with -)")
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "Run under every alternative of POLICY and show the results side by side"))
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
-    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat (an IEC dialect runs the snippet as the body of PROGRAM MAIN)")
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect runs the snippet as the body of PROGRAM MAIN)")
     <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "IEC dialects: the number of scan cycles")
 
 -- | One run's observable outcome, as lines of (label, value).

@@ -78,7 +78,7 @@ options =
     <*> option auto (long "shrink-budget" <> metavar "N" <> value 400 <> showDefault <> help "At most N runs while shrinking one disagreement")
     <*> option auto (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Time limit of one engine run")
     <*> optional (option auto (long "calls" <> metavar "N" <> help "Module calls per program (default 1; 2 for --compare lifetime)"))
-    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect of the generated programs: mastertool-xe, or tecomat (IEC programs with FB instances, TIME, bit strings, over 1-4 cycles)")
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect of the generated programs: mastertool-xe, or an IEC dialect (tecomat, nexto: IEC programs with FB instances, TIME, bit strings, over 1-4 cycles)")
   where
     mode =
       (AgainstEngine <$> strOption (long "engine" <> metavar "CMD" <> help "The engine command (request on stdin, answer on stdout)"))

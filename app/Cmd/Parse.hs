@@ -41,7 +41,7 @@ options =
     <$> strArgument (metavar "FILE" <> help "The ST source file")
     <*> switch (long "ast" <> help "Print the syntax tree instead of the normalised program")
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. nested-comments=yes or elsif-keyword=ELSIF"))
-    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat (an IEC dialect prints the declarations of the unit, or its syntax tree with --ast)")
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect prints the declarations of the unit, or its syntax tree with --ast)")
 
 run :: Options -> IO ExitCode
 run (Options file ast policyArgs dialect) = case dialectPolicies dialect policyArgs of

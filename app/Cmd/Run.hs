@@ -72,7 +72,7 @@ options =
     <*> many (strOption (long "out" <> metavar "ARG" <> help "A CHF output parameter, in order (F modules)"))
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
     <*> strOption (long "format" <> metavar "text|json" <> value "text" <> showDefault <> help "Output format")
-    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe or tecomat (an IEC dialect: --set takes PATH=VALUE, e.g. MAIN.start=TRUE)")
+    <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect: --set takes PATH=VALUE, e.g. MAIN.start=TRUE)")
     <*> strOption (long "cycle" <> metavar "TIME" <> value "T#10ms" <> showDefault <> help "IEC dialects: the task interval (the virtual clock advances by it before each cycle)")
     <*> optional (strOption (long "program" <> metavar "NAME" <> help "IEC dialects: the PROGRAM to run (default: the configuration's, or the file's only one)"))
 

@@ -33,9 +33,12 @@ module Stref.Policy
   , StringBounds (..)
   , StringOverflow (..)
   , SubrangeCheck (..)
+  , StandardLibrary (..)
+  , Extensions (..)
   , Model (..)
   , mastertoolXE
   , tecomat
+  , nexto
   , presets
   , lookupPreset
   , PolicyInfo (..)
@@ -159,6 +162,18 @@ data StringOverflow = StringTruncate | StringOverflowError
 data SubrangeCheck = SubrangeError | SubrangeUnchecked
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | The standard function blocks' library: IEC's (inputs S1, R, R1, LD;
+-- counters on INT), or CODESYS's standard.library (inputs SET1, RESET,
+-- RESET1, LOAD; counters on WORD: NX-FB-1, NX-FB-4, NX-FB-11).
+data StandardLibrary = LibraryIec | LibraryCodesys
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | The language beyond IEC 61131-3 ed.2: none, or CODESYS V3's (pointers,
+-- methods, properties, actions, EXTENDS, JMP, CONTINUE, S=/R=, assignment
+-- as an expression, pragmas).
+data Extensions = ExtensionsNone | ExtensionsCodesys
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 -- | The controller a dialect runs on: MasterTool's (operand tables, CHF
 -- parameters, per-call initialisation, the diagnostic band) or IEC
 -- 61131-3's (program instances, tasks, a clock). Part of the preset, not a
@@ -203,6 +218,8 @@ data Policies = Policies
   , pStringLength :: !Int
   -- ^ the capacity of a STRING declared without one
   , pSubrange :: !SubrangeCheck
+  , pStandardLibrary :: !StandardLibrary
+  , pExtensions :: !Extensions
   }
   deriving (Eq, Show)
 
@@ -243,6 +260,8 @@ mastertoolXE =
     , pStringOverflow = StringTruncate
     , pStringLength = 80
     , pSubrange = SubrangeError
+    , pStandardLibrary = LibraryIec
+    , pExtensions = ExtensionsNone
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -280,12 +299,51 @@ tecomat =
     , pStringOverflow = StringTruncate -- TC-TYPE-27, TC-STR-18
     , pStringLength = 255 -- TC-TYPE-26
     , pSubrange = SubrangeError -- TC-TYPE-33
+    , pStandardLibrary = LibraryIec -- TC-FB-2..8
+    , pExtensions = ExtensionsNone
     }
 
--- | Named presets. Only MasterTool XE is a complete dialect today; the next
--- dialects (tecomat, nexto) become entries here, not forks of the code.
+-- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
+-- (docs/nexto.md gives the reason for each choice).
+nexto :: Policies
+nexto =
+  tecomat
+    { pOverflow = Wrap -- NX-OP-32, NX-DIFF-4
+    , pArithWidth = OperandType -- NX-OP-50
+    , pDivZero = DivZeroError -- NX-OP-29, NX-ERR-10
+    , pRealDivZero = RealDivZeroIeee -- NX-TYPE-23
+    , pRealOverflow = RealOverflowIeee -- NX-TYPE-23
+    , pModZero = ModZeroError -- NX-OP-30, NX-DIFF-10
+    , pModSign = ModSignDividend -- NX-OP-28
+    , pRealToInt = RoundEvenWrap -- NX-CONV-21..24
+    , pNarrowInt = NarrowWrap -- NX-CONV-19
+    , pImplicitConversions = ImplicitCodesys -- NX-CONV-1..5
+    , pNameResolution = LocalWins -- NX-VAR-33
+    , pForBounds = ForEveryIteration -- NX-STMT-25
+    , pForAtTypeMax = FollowOverflowPolicy -- NX-STMT-21
+    , pShortCircuit = Eager -- NX-OP-22
+    , pLifetime = Retained -- NX-POU-1, NX-POU-16
+    , pIndexOutOfRange = IndexError -- NX-ERR-9
+    , pIdentifierLength = Unlimited -- NX-LEX-5
+    , pNestedComments = Nesting -- NX-LEX-17
+    , pElsifKeyword = ElsifOnly -- NX-STMT-11
+    , pStepBudget = 1000000 -- NX-TASK-3: the task watchdog, as a count of steps per cycle
+    , pAfterError = StopController -- NX-ERR-1
+    , pFTrigInitial = FTrigTrue -- NX-FB-10
+    , pDownCounterQ = EqualZero -- NX-FB-15
+    , pTimerQ = SameCycle -- NX-FB-26
+    , pInsertPosition = InsertAfter -- NX-STR-7
+    , pStringBounds = StringClamp -- NX-STR-11
+    , pStringOverflow = StringTruncate -- NX-TYPE-26, NX-TYPE-27
+    , pStringLength = 80 -- NX-TYPE-24
+    , pSubrange = SubrangeUnchecked -- NX-TYPE-71, NX-ERR-17
+    , pStandardLibrary = LibraryCodesys -- NX-FB-1, NX-FB-4, NX-FB-11
+    , pExtensions = ExtensionsCodesys
+    }
+
+-- | Named presets: each dialect is an entry here, not a fork of the code.
 presets :: [(Text, Policies)]
-presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat)]
+presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto)]
 
 lookupPreset :: Text -> Maybe Policies
 lookupPreset n = lookup n presets
@@ -358,6 +416,8 @@ policyTable =
   , enumPolicy "string-overflow" ["truncate", "error"] pStringOverflow (\v p -> p {pStringOverflow = v})
   , numPolicy "string-length" pStringLength (\v p -> p {pStringLength = max 1 v})
   , enumPolicy "subrange" ["error", "unchecked"] pSubrange (\v p -> p {pSubrange = v})
+  , enumPolicy "standard-library" ["iec", "codesys"] pStandardLibrary (\v p -> p {pStandardLibrary = v})
+  , enumPolicy "extensions" ["none", "codesys"] pExtensions (\v p -> p {pExtensions = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

@@ -6,40 +6,16 @@
 module IEC.EngineSpec (spec) where
 
 import Data.Either (isLeft)
-import Data.Text (Text)
 import qualified Data.Text as T
 import qualified Data.Map.Strict as M
 import Stref.Conformance.Protocol
 import Stref.Engine (referenceEngine)
-import Stref.IEC.Check (ProgramChoice (..))
 import Stref.IEC.Engine
-import Stref.IEC.Eval (Stop (..), readVariablePath)
-import Stref.IEC.Syntax (Pos (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
-import Stref.Verification (VerificationError (..))
+import Support.Iec
 import Test.Hspec
-
--- | Run a program body (with its VAR blocks) as PROGRAM MAIN for n cycles of
--- 10 ms and read one variable of MAIN.
-runMain :: Policies -> Text -> Int -> Text -> Either Text Value
-runMain pol body n var = case runProgram pol "t.st" ("PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM\n") ProgramsOfConfiguration 10 [] (replicate n []) of
-  Left e -> Left ("rejected: " <> veKind e <> ": " <> veMessage e)
-  Right (Left e) -> Left e
-  Right (Right r) -> case parseVarPath ("MAIN." <> var) of
-    Right steps -> maybe (Left "no such variable") (Right . fst) (readVariablePath (rrProgram r) (rrMachine r) steps)
-    Left e -> Left e
-
-rejectKind :: Policies -> Text -> Maybe (Text, Int)
-rejectKind pol src = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] [[]] of
-  Left (VerificationError k (Pos l _) _) -> Just (k, l)
-  _ -> Nothing
-
-errorOf :: Policies -> Text -> Int -> Maybe (Int, Text)
-errorOf pol body n = case runProgram pol "t.st" ("PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM\n") ProgramsOfConfiguration 10 [] (replicate n []) of
-  Right (Right r) -> (\(k, StopFault _ f) -> (k, faultKind f)) <$> rrError r
-  _ -> Nothing
 
 spec :: Spec
 spec = describe "IEC.Engine" $ do

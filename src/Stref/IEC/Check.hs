@@ -684,8 +684,16 @@ assignable t ce
 implicitAllowed :: ImplicitConversions -> Elem -> Elem -> Bool
 implicitAllowed ic from to = case ic of
   ImplicitNone -> False
+  ImplicitCodesys -> (from, to) `elem` widening || codesys
   _ -> (from, to) `elem` widening
   where
+    -- NX-CONV-1..8: never to a narrower integer; the manual's own CTUD
+    -- example stores a WORD in an INT (NX-CONV-7), so signedness and bit
+    -- string/integer may change at equal width; every integer becomes a
+    -- REAL or LREAL (NX-CONV-3)
+    codesys =
+      (isInt from && isInt to && intBits to >= intBits from)
+        || (isInt from && isAnyReal to)
     chain xs = [(a, b) | (i, a) <- zip [0 :: Int ..] xs, (j, b) <- zip [0 ..] xs, i < j]
     widening =
       chain [SINT, INT, DINT, LINT] ++ chain [USINT, UINT, UDINT, ULINT] ++ chain [BYTE, WORD, DWORD, LWORD]

@@ -25,13 +25,13 @@ standardFBNames = ["SR", "RS", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "TP", "
 -- policy, TC-FB-15).
 standardFBs :: Policies -> [(Text, PouDef)]
 standardFBs pol =
-  [ fb "SR" [inB "S1", inB "R", outB "Q1"] [] sr -- TC-FB-2
-  , fb "RS" [inB "S", inB "R1", outB "Q1"] [] rs -- TC-FB-3
+  [ fb "SR" [inB set1, inB reset, outB "Q1"] [] (sr set1 reset) -- TC-FB-2, NX-FB-1
+  , fb "RS" [inB set, inB reset1, outB "Q1"] [] (rs set reset1) -- TC-FB-3, NX-FB-4
   , fb "R_TRIG" [inB "CLK", outB "Q"] [("$M", VBool False)] rTrig -- TC-FB-4
   , fb "F_TRIG" [inB "CLK", outB "Q"] [("$M", VBool (pFTrigInitial pol == FTrigTrue))] fTrig -- TC-FB-5
-  , fb "CTU" [inB "CU", inB "R", inI "PV", outB "Q", outI "CV"] [("$CU", VBool False)] ctu -- TC-FB-6
-  , fb "CTD" [inB "CD", inB "LD", inI "PV", outB "Q", outI "CV"] [("$CD", VBool False)] ctd -- TC-FB-7
-  , fb "CTUD" [inB "CU", inB "CD", inB "R", inB "LD", inI "PV", outB "QU", outB "QD", outI "CV"] [("$CU", VBool False), ("$CD", VBool False)] ctud -- TC-FB-8
+  , fb "CTU" [inB "CU", inB reset, inC "PV", outB "Q", outC "CV"] [("$CU", VBool False)] (ctu counter reset) -- TC-FB-6, NX-FB-11
+  , fb "CTD" [inB "CD", inB load, inC "PV", outB "Q", outC "CV"] [("$CD", VBool False)] (ctd counter load) -- TC-FB-7, NX-FB-14
+  , fb "CTUD" [inB "CU", inB "CD", inB reset, inB load, inC "PV", outB "QU", outB "QD", outC "CV"] [("$CU", VBool False), ("$CD", VBool False)] (ctud counter reset load) -- TC-FB-8, NX-FB-17
   , fb "TP" [inB "IN", inT "PT", outB "Q", outT "ET"] timerState tp -- TC-FB-9
   , fb "TON" [inB "IN", inT "PT", outB "Q", outT "ET"] timerState ton -- TC-FB-10
   , fb "TOF" [inB "IN", inT "PT", outB "Q", outT "ET"] timerState tof -- TC-FB-11
@@ -43,10 +43,14 @@ standardFBs pol =
           allVars = infos ++ hiddenInfos
        in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noP)
     noP = Pos 0 0
+    -- the library's names and the counters' type (policy standard-library)
+    (set1, reset, set, reset1, load, counter) = case pStandardLibrary pol of
+      LibraryIec -> ("S1", "R", "S", "R1", "LD", INT) -- TC-FB-13: PV and CV are INT
+      LibraryCodesys -> ("SET1", "RESET", "SET", "RESET1", "LOAD", WORD) -- NX-FB-11: WORD
     inB n = (n, SecInput, TElem BOOL)
     outB n = (n, SecOutput, TElem BOOL)
-    inI n = (n, SecInput, TElem INT) -- TC-FB-13: PV and CV are INT
-    outI n = (n, SecOutput, TElem INT)
+    inC n = (n, SecInput, TElem counter)
+    outC n = (n, SecOutput, TElem counter)
     inT n = (n, SecInput, TElem TIME)
     outT n = (n, SecOutput, TElem TIME)
     timerState = [("$RUN", VBool False), ("$START", VTime TIME 0), ("$PREV", VBool False), ("$REACHED", VBool False)]
@@ -68,19 +72,19 @@ int k s = case M.lookup k s of
 setB :: Text -> Bool -> FBState -> FBState
 setB k = M.insert k . VBool
 
-setI :: Text -> Integer -> FBState -> FBState
-setI k = M.insert k . VInt INT
+setI :: Elem -> Text -> Integer -> FBState -> FBState
+setI e k = M.insert k . VInt e
 
 setT :: Text -> Integer -> FBState -> FBState
 setT k = M.insert k . VTime TIME
 
--- | TC-FB-18: @Q1 := S1 OR (NOT R AND Q1)@ (set dominant).
-sr :: StandardFB
-sr _ _ s = setB "Q1" (bool "S1" s || (not (bool "R" s) && bool "Q1" s)) s
+-- | TC-FB-18, NX-FB-2: @Q1 := S1 OR (NOT R AND Q1)@ (set dominant).
+sr :: Text -> Text -> StandardFB
+sr set1 reset _ _ s = setB "Q1" (bool set1 s || (not (bool reset s) && bool "Q1" s)) s
 
--- | TC-FB-17: @Q1 := NOT R1 AND (S OR Q1)@ (reset dominant).
-rs :: StandardFB
-rs _ _ s = setB "Q1" (not (bool "R1" s) && (bool "S" s || bool "Q1" s)) s
+-- | TC-FB-17, NX-FB-5: @Q1 := NOT R1 AND (S OR Q1)@ (reset dominant).
+rs :: Text -> Text -> StandardFB
+rs set reset1 _ _ s = setB "Q1" (not (bool reset1 s) && (bool set s || bool "Q1" s)) s
 
 -- | TC-FB-16: @Q := CLK AND NOT M; M := CLK@.
 rTrig :: StandardFB
@@ -96,9 +100,11 @@ fTrig _ _ s = setB "$M" (not (bool "CLK" s)) (setB "Q" (not (bool "CLK" s) && no
 edge :: Text -> Text -> FBState -> (Bool, FBState)
 edge input memory s = (bool input s && not (bool memory s), setB memory (bool input s) s)
 
-pvMax, pvMin :: Integer
-pvMax = 32767
-pvMin = -32768
+-- | The counters count within their type: IEC's PVmax and PVmin for INT
+-- (TC-FB-21, TC-FB-23), 0 and 65535 for WORD.
+pvMax, pvMin :: Elem -> Integer
+pvMax = snd . intRange
+pvMin = fst . intRange
 
 -- | The down counters' Q (TC-FB-19, TC-FB-20, policy @down-counter-q@).
 downQ :: Policies -> Integer -> Bool
@@ -108,41 +114,41 @@ downQ pol cv = case pDownCounterQ pol of
 
 -- | TC-FB-22: R clears CV; a rising edge of CU adds one (not past the
 -- type's maximum, TC-FB-23); Q := CV >= PV.
-ctu :: StandardFB
-ctu _ _ s0 =
+ctu :: Elem -> Text -> StandardFB
+ctu e reset _ _ s0 =
   let (up, s1) = edge "CU" "$CU" s0
       cv
-        | bool "R" s1 = 0
-        | up && int "CV" s1 < pvMax = int "CV" s1 + 1
+        | bool reset s1 = 0
+        | up && int "CV" s1 < pvMax e = int "CV" s1 + 1
         | otherwise = int "CV" s1
-   in setB "Q" (cv >= int "PV" s1) (setI "CV" cv s1)
+   in setB "Q" (cv >= int "PV" s1) (setI e "CV" cv s1)
 
 -- | TC-FB-19: LD loads PV; a rising edge of CD subtracts one (not below the
 -- type's minimum, TC-FB-21); Q per @down-counter-q@.
-ctd :: StandardFB
-ctd pol _ s0 =
+ctd :: Elem -> Text -> StandardFB
+ctd e load pol _ s0 =
   let (down, s1) = edge "CD" "$CD" s0
       cv
-        | bool "LD" s1 = int "PV" s1
-        | down && int "CV" s1 > pvMin = int "CV" s1 - 1
+        | bool load s1 = int "PV" s1
+        | down && int "CV" s1 > pvMin e = int "CV" s1 - 1
         | otherwise = int "CV" s1
-   in setB "Q" (downQ pol cv) (setI "CV" cv s1)
+   in setB "Q" (downQ pol cv) (setI e "CV" cv s1)
 
 -- | TC-FB-24: R clears, else LD loads, else one edge counts (both edges at
 -- once change nothing: TC-FB-25, TC-FB-26); QU := CV >= PV; QD per policy.
-ctud :: StandardFB
-ctud pol _ s0 =
+ctud :: Elem -> Text -> Text -> StandardFB
+ctud e reset load pol _ s0 =
   let (up, s1) = edge "CU" "$CU" s0
       (down, s2) = edge "CD" "$CD" s1
       cv0 = int "CV" s2
       cv
-        | bool "R" s2 = 0
-        | bool "LD" s2 = int "PV" s2
+        | bool reset s2 = 0
+        | bool load s2 = int "PV" s2
         | up && down = cv0
-        | up && cv0 < pvMax = cv0 + 1
-        | down && cv0 > pvMin = cv0 - 1
+        | up && cv0 < pvMax e = cv0 + 1
+        | down && cv0 > pvMin e = cv0 - 1
         | otherwise = cv0
-   in setB "QD" (downQ pol cv) (setB "QU" (cv >= int "PV" s2) (setI "CV" cv s2))
+   in setB "QD" (downQ pol cv) (setB "QU" (cv >= int "PV" s2) (setI e "CV" cv s2))
 
 -- | TC-FB-27: while IN is TRUE, ET counts the time since IN rose, up to PT;
 -- Q once it reached PT (in that call, or under @timer-q = next-cycle@ in
