@@ -29,3 +29,29 @@ spec = describe "the nexto dialect" $ do
       rejectKind nexto "PROGRAM MAIN\nVAR i : INT; d : DINT; END_VAR\ni := d;\nEND_PROGRAM\n" `shouldBe` Just ("type-mismatch", 3)
     it "lets a WORD be stored in an INT, as the manual's CTUD example does (NX-CONV-7)" $
       runMain nexto "VAR w : WORD := 16#FFFF; i : INT; END_VAR i := w;" 1 "i" `shouldBe` Right (VInt INT (-1))
+  describe "statements of CODESYS (extensions = codesys)" $ do
+    it "JMP goes back to a label: the manual's loop ends with i = 10 (NX-STMT-42, NX-STMT-43)" $
+      runMain nexto "VAR i : INT; END_VAR i := 0; label1: i := i + 1; IF i < 10 THEN JMP label1; END_IF" 1 "i" `shouldBe` Right (VInt INT 10)
+    it "JMP out of a loop to a label of the enclosing block" $
+      runMain nexto "VAR i, j : INT; END_VAR FOR i := 1 TO 10 DO j := i; IF i = 4 THEN JMP done; END_IF END_FOR j := 100; done: ;" 1 "j" `shouldBe` Right (VInt INT 4)
+    it "a JMP to a label of a nested block is rejected" $
+      rejectKind nexto "PROGRAM MAIN\nVAR i : INT; END_VAR\nJMP inner;\nIF TRUE THEN inner: i := 1; END_IF\nEND_PROGRAM\n" `shouldBe` Just ("undeclared-label", 3)
+    it "CONTINUE skips the rest of the body and FOR still counts (NX-STMT-35, NX-STMT-37)" $
+      runMain nexto "VAR i, cnt : INT; END_VAR FOR i := 1 TO 5 DO IF i MOD 2 = 0 THEN CONTINUE; END_IF cnt := cnt + 1; END_FOR" 1 "cnt" `shouldBe` Right (VInt INT 3)
+    it "CONTINUE outside a loop is rejected" $
+      rejectKind nexto "PROGRAM MAIN\nVAR i : INT; END_VAR\nCONTINUE;\nEND_PROGRAM\n" `shouldBe` Just ("continue-outside-loop", 3)
+    it "an assignment chain stores in every target (NX-STMT-6)" $ do
+      runMain nexto "VAR a, b, c : INT := 1; END_VAR a := b := c + 9;" 1 "a" `shouldBe` Right (VInt INT 10)
+      runMain nexto "VAR a, b, c : INT := 1; END_VAR a := b := c + 9;" 1 "b" `shouldBe` Right (VInt INT 10)
+    it "the next target takes what the previous one stored: INT := REAL := INT is rejected (NX-STMT-6, NX-CONV-5)" $
+      rejectKind nexto "PROGRAM MAIN\nVAR i : INT; x : REAL; END_VAR\ni := x := i;\nEND_PROGRAM\n" `shouldBe` Just ("type-mismatch", 3)
+    it "S= sets and keeps, R= resets (NX-STMT-7, NX-STMT-8)" $ do
+      runMain nexto "VAR a, b : BOOL; cnt : INT; END_VAR cnt := cnt + 1; b := cnt = 1; a S= b;" 3 "a" `shouldBe` Right (VBool True)
+      runMain nexto "VAR a : BOOL := TRUE; END_VAR a R= TRUE;" 1 "a" `shouldBe` Right (VBool False)
+    it "in a S= b R= f, both refer to f (NX-STMT-9)" $ do
+      runMain nexto "VAR a, b : BOOL := TRUE; f : BOOL := TRUE; END_VAR a := FALSE; a S= b R= f;" 1 "a" `shouldBe` Right (VBool True)
+      runMain nexto "VAR a, b : BOOL := TRUE; f : BOOL := TRUE; END_VAR a := FALSE; a S= b R= f;" 1 "b" `shouldBe` Right (VBool False)
+    it "END_IF needs no semicolon (NX-STMT-3)" $
+      runMain nexto "VAR i : INT; END_VAR IF TRUE THEN i := 1; END_IF i := i + 1;" 1 "i" `shouldBe` Right (VInt INT 2)
+    it "under extensions = none, CONTINUE is no statement" $
+      rejectKind nexto {pExtensions = ExtensionsNone} "PROGRAM MAIN\nVAR i : INT; END_VAR\nFOR i := 1 TO 2 DO CONTINUE; END_FOR;\nEND_PROGRAM\n" `shouldSatisfy` (/= Nothing)

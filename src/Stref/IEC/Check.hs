@@ -53,6 +53,7 @@ data Env = Env
   , envPou :: Maybe Pou -- ^ the POU being checked
   , envLocals :: M.Map Text VarInfo
   , envLoop :: Bool
+  , envLabels :: Set.Set Text -- ^ the labels of the enclosing blocks (NX-STMT-42)
   , envTypeDepth :: Int
   }
 
@@ -108,6 +109,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
           , envPou = Nothing
           , envLocals = M.empty
           , envLoop = False
+          , envLabels = Set.empty
           , envTypeDepth = 0
           }
   -- global CONSTANTs, which declarations may use (array bounds, initial
@@ -467,7 +469,10 @@ checkPou p = do
       }
 
 checkStmts :: [Stmt] -> C [CStmt]
-checkStmts = fmap catMaybes . mapM checkStmt
+checkStmts ss = do
+  let labels = [(p, n) | SLabel p n <- ss]
+  either throwError pure (runExcept (checkDuplicates labels))
+  local (\e -> e {envLabels = envLabels e `Set.union` Set.fromList (map (key . snd) labels)}) (catMaybes <$> mapM checkStmt ss)
 
 checkStmt :: Stmt -> C (Maybe CStmt)
 checkStmt = \case
@@ -514,6 +519,34 @@ checkStmt = \case
     unless inLoop (failC "exit-outside-loop" p "EXIT stands outside a FOR, WHILE or REPEAT loop (TC-STMT-36)")
     pure (Just (CExit p))
   SReturn p -> pure (Just (CReturn p))
+  SContinue p -> do
+    inLoop <- asks envLoop
+    unless inLoop (failC "continue-outside-loop" p "CONTINUE stands outside a FOR, WHILE or REPEAT loop (NX-STMT-35)")
+    pure (Just (CContinue p))
+  SLabel p n -> pure (Just (CLabel p (key n)))
+  SJump p n -> do
+    labels <- asks envLabels
+    unless (key n `Set.member` labels) (failC "undeclared-label" p ("JMP to " <> n <> ", which labels no statement of this block or of an enclosing one (NX-STMT-42)"))
+    pure (Just (CJump p (key n)))
+  SChain p targets value -> do
+    -- NX-STMT-6..9: the value reaches the rightmost target first; after an
+    -- assignment the next target takes what was stored, after S= or R=
+    -- the value itself
+    (_, lastType) <- checkTarget (fst (last targets))
+    v <- checkExprAt (Just lastType) value
+    let go _ [] acc = pure acc
+        go cur ((t, op) : rest) acc = do
+          (ref, ty) <- checkTarget t
+          case op of
+            OpAssign -> do
+              _ <- assignable ty cur
+              let from = if sameType ty (ceType cur) then Nothing else Just (ceType cur)
+              go (CExpr (exprPos t) ty (CRead ref)) rest ((op, ref, ty, from) : acc)
+            _ -> do
+              unless (ceType cur == TElem BOOL && ty == TElem BOOL) $
+                failC "type-mismatch" (exprPos t) "S= and R= set or reset a BOOL by a BOOL (NX-STMT-7, NX-STMT-8)"
+              go cur rest ((op, ref, ty, Nothing) : acc)
+    Just . CChain p v <$> go v (reverse targets) []
 
 condition :: Expr -> C CExpr
 condition c = do

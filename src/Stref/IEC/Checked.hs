@@ -22,7 +22,7 @@ import Data.Map.Strict (Map)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
-import Stref.IEC.Syntax (BinOp, EdgeQualifier, Location, Pos, PouKind, Section, UnOp)
+import Stref.IEC.Syntax (AssignOp, BinOp, EdgeQualifier, Location, Pos, PouKind, Section, UnOp)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy (Policies)
@@ -117,3 +117,10 @@ data CStmt
   | CRepeat Pos [CStmt] CExpr
   | CExit Pos
   | CReturn Pos
+  | CContinue Pos
+  | CJump Pos Text -- ^ to a label (upper case) of this or an enclosing block
+  | CLabel Pos Text
+  | CChain Pos CExpr [(AssignOp, CRef, Type, Maybe Type)]
+  -- ^ the value, then the targets from left to right: how each takes the
+  -- value, where it lies, its type, and the type to convert from when the
+  -- value reaching it has another

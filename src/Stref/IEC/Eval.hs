@@ -29,7 +29,7 @@ import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert)
 import Stref.IEC.Operators (binary, unary)
 import Stref.IEC.Standard (standard)
-import Stref.IEC.Syntax (BinOp (..), EdgeQualifier (..), Location (..), Pos (..), Section (..))
+import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), Section (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -49,7 +49,7 @@ data Machine = Machine
 data Stop = StopFault Pos Fault
   deriving (Eq, Show)
 
-data Signal = SigExit | SigReturn | SigFault Pos Fault
+data Signal = SigExit | SigReturn | SigContinue | SigJump Text | SigFault Pos Fault
 
 data Ctx = Ctx
   { cxPol :: Policies
@@ -226,8 +226,22 @@ callFunction p f ins inouts = do
 ------------------------------------------------------------------------------
 -- Statements (TC-STMT-*)
 
+-- | A block of statements; a JMP to one of its labels (from it or from a
+-- block inside it) goes on from that label (NX-STMT-42).
 execBlock :: [CStmt] -> Eval ()
-execBlock = mapM_ exec
+execBlock ss
+  | any isLabel ss = run ss
+  | otherwise = mapM_ exec ss
+  where
+    isLabel = \case
+      CLabel {} -> True
+      _ -> False
+    run xs = mapM_ exec xs `catchError` \case
+      SigJump l | Just rest <- from l -> run rest
+      e -> throwError e
+    from l = case break (\case CLabel _ l' -> l' == l; _ -> False) ss of
+      (_, []) -> Nothing
+      (_, rest) -> Just rest
 
 exec :: CStmt -> Eval ()
 exec = \case
@@ -276,11 +290,36 @@ exec = \case
     loop
   CExit p -> tick p >> throwError SigExit
   CReturn p -> tick p >> throwError SigReturn
+  CContinue p -> tick p >> throwError SigContinue -- NX-STMT-35
+  CJump p l -> tick p >> throwError (SigJump l) -- NX-STMT-42
+  CLabel _ _ -> pure ()
+  CChain p e targets -> do
+    -- NX-STMT-6..9: from the rightmost target to the leftmost
+    tick p
+    pol <- asks cxPol
+    v0 <- eval e
+    let go _ [] = pure ()
+        go v ((op, r, t, from) : rest) = do
+          target <- refPath p r
+          case op of
+            OpAssign -> do
+              v' <- maybe (pure v) (\f -> orFault p (convert pol f t v)) from
+              storeTarget p t r target v'
+              stored <- getRef p r target
+              go stored rest
+            OpSet -> do
+              when (asBool v) (storeTarget p t r target (VBool True))
+              go v rest
+            OpReset -> do
+              when (asBool v) (storeTarget p t r target (VBool False))
+              go v rest
+    go v0 (reverse targets)
 
 -- | A loop body; False when EXIT left the loop (TC-STMT-36, TC-STMT-37).
 loopBody :: [CStmt] -> Eval Bool
 loopBody body = (True <$ execBlock body) `catchError` \case
   SigExit -> pure False
+  SigContinue -> pure True
   e -> throwError e
 
 ordinal :: Type -> Value -> Integer

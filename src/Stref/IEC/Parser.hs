@@ -20,7 +20,7 @@ import qualified Data.Set as Set
 import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Syntax
-import Stref.Policy (ElsifKeyword (..), IdentifierLength (..), NestedComments (..), Policies (..))
+import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..))
 import Stref.Verification (VerificationError (..))
 import Text.Megaparsec hiding (Pos)
 import Text.Megaparsec.Char (char, string, string')
@@ -172,6 +172,20 @@ symbol pol t = lexeme pol (void (string t)) <?> ("'" <> T.unpack t <> "'")
 kw :: Policies -> Text -> Parser ()
 kw pol w = lexeme pol (try (string' w *> notFollowedBy (satisfy isWordChar))) <?> T.unpack w
 
+-- | The keywords of the dialect: IEC's, and CODESYS's under
+-- @extensions = codesys@ (NX-LEX-12).
+keywordsOf :: Policies -> Set.Set Text
+keywordsOf pol
+  | codesys pol = keywords `Set.union` codesysKeywords
+  | otherwise = keywords
+
+codesysKeywords :: Set.Set Text
+codesysKeywords = Set.fromList ["CONTINUE", "JMP", "POINTER", "REFERENCE", "METHOD", "END_METHOD", "PROPERTY", "END_PROPERTY", "EXTENDS", "THIS", "SUPER", "UNION", "END_UNION", "VAR_STAT", "PERSISTENT"]
+
+-- | Does the dialect have CODESYS's extensions?
+codesys :: Policies -> Bool
+codesys pol = pExtensions pol == ExtensionsCodesys
+
 -- | The keywords, which no user name may take (TC-LEX-1).
 keywords :: Set.Set Text
 keywords =
@@ -203,7 +217,7 @@ identifier pol = lexeme pol $ do
           invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only (TC-LEX-12)")
       | "__" `T.isInfixOf` w ->
           invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed (TC-LEX-14)")
-      | T.toUpper w `Set.member` keywords -> empty <?> "a name"
+      | T.toUpper w `Set.member` keywordsOf pol -> empty <?> "a name"
       | otherwise -> do
           _ <- takeP Nothing (T.length w)
           pure (p, significant w)
@@ -635,6 +649,9 @@ statement pol = do
     , repeatStmt p
     , SExit p <$ kw pol "EXIT" <* symbol pol ";"
     , SReturn p <$ kw pol "RETURN" <* symbol pol ";"
+    , extension (SContinue p <$ kw pol "CONTINUE" <* symbol pol ";")
+    , extension (SJump p <$> (kw pol "JMP" *> name pol) <* symbol pol ";")
+    , extension (try (SLabel p <$> name pol <* symbol pol ":" <* notFollowedBy (char '=')))
     , simple p
     ]
     <?> "a statement"
@@ -647,7 +664,7 @@ statement pol = do
       elsifs <- many ((,) <$> (elsifKw pol *> expr pol <* kw pol "THEN") <*> statements pol)
       els <- option [] (kw pol "ELSE" *> statements pol)
       kw pol "END_IF"
-      symbol pol ";"
+      endSemi
       pure (SIf p ((c, b) : elsifs) els)
     caseStmt p = do
       kw pol "CASE"
@@ -656,7 +673,7 @@ statement pol = do
       arms <- many ((,) <$> (caseLabels pol <* symbol pol ":") <*> caseStatements pol)
       els <- option [] (kw pol "ELSE" *> statements pol)
       kw pol "END_CASE"
-      symbol pol ";"
+      endSemi
       pure (SCase p sel arms els)
     forStmt p = do
       kw pol "FOR"
@@ -669,7 +686,7 @@ statement pol = do
       kw pol "DO"
       b <- statements pol
       kw pol "END_FOR"
-      symbol pol ";"
+      endSemi
       pure (SFor p v s e st b)
     whileStmt p = do
       kw pol "WHILE"
@@ -677,7 +694,7 @@ statement pol = do
       kw pol "DO"
       b <- statements pol
       kw pol "END_WHILE"
-      symbol pol ";"
+      endSemi
       pure (SWhile p c b)
     repeatStmt p = do
       kw pol "REPEAT"
@@ -686,16 +703,30 @@ statement pol = do
       c <- expr pol
       _ <- optional (symbol pol ";") -- TC-ERRATA-4: Tab.3.24 writes `UNTIL i < 20;`
       kw pol "END_REPEAT"
-      symbol pol ";"
+      endSemi
       pure (SRepeat p b c)
+    extension q = if codesys pol then q else empty
+    -- NX-STMT-2: CODESYS does not require the ';' after END_IF and the like
+    endSemi = if codesys pol then void (optional (symbol pol ";")) else symbol pol ";"
+    setOrReset = (OpSet <$ lexeme pol (try (string' "S="))) <|> (OpReset <$ lexeme pol (try (string' "R=")))
+    assignOp = (OpAssign <$ symbol pol ":=") <|> extension setOrReset
+    -- NX-STMT-6..9: further targets of a chain, each before its operator
+    chain acc = do
+      more <- if codesys pol then optional (try ((,) <$> variable pol <*> assignOp)) else pure Nothing
+      case more of
+        Just t -> chain (t : acc)
+        Nothing -> pure (reverse acc)
     simple p = do
       target <- variable pol
       choice
         [ do
-            symbol pol ":="
+            op <- assignOp
+            rest <- chain []
             v <- expr pol
             symbol pol ";"
-            pure (SAssign p target v)
+            pure $ case (op, rest) of
+              (OpAssign, []) -> SAssign p target v
+              _ -> SChain p ((target, op) : rest) v
         , do
             args <- symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")"
             symbol pol ";"

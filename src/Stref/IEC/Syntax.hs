@@ -26,6 +26,7 @@ module Stref.IEC.Syntax
   , Task (..)
   , ProgramConfig (..)
   , Stmt (..)
+  , AssignOp (..)
   , CaseLabel (..)
   , Arg (..)
   , Expr (..)
@@ -184,6 +185,16 @@ data Stmt
   | SExit Pos
   | SReturn Pos
   | SEmpty Pos
+  | SContinue Pos -- ^ CODESYS: the next iteration of the innermost loop (NX-STMT-35)
+  | SJump Pos Name -- ^ CODESYS: @JMP label;@ (NX-STMT-42)
+  | SLabel Pos Name -- ^ CODESYS: @label:@ before the statements it marks
+  | SChain Pos [(Expr, AssignOp)] Expr
+  -- ^ CODESYS: @a := b := e@, @a S= e@, @a R= e@, @a S= b R= e@: the
+  -- targets from left to right and the value (NX-STMT-6..9)
+  deriving (Eq, Show)
+
+-- | How a target of an assignment chain takes its value.
+data AssignOp = OpAssign | OpSet | OpReset
   deriving (Eq, Show)
 
 data CaseLabel = CaseValue Expr | CaseRange Expr Expr
@@ -285,3 +296,7 @@ stmtPos = \case
   SExit p -> p
   SReturn p -> p
   SEmpty p -> p
+  SContinue p -> p
+  SJump p _ -> p
+  SLabel p _ -> p
+  SChain p _ _ -> p
