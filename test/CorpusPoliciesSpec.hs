@@ -59,7 +59,7 @@ alternatives =
 -- it with unsupported, IEC.EngineSpec checks that); standard-library renames
 -- the standard FBs' inputs (IEC.EngineSpec runs both libraries).
 interfacePolicies :: [Text]
-interfacePolicies = ["lifetime", "standard-library"]
+interfacePolicies = ["lifetime", "standard-library", "reserved-names"]
 
 policiesWith :: (Text, Text) -> Policies
 policiesWith (k, v) = either (error . T.unpack) id (setPolicy k v mastertoolXE)

@@ -35,6 +35,7 @@ module Stref.Policy
   , SubrangeCheck (..)
   , StandardLibrary (..)
   , Extensions (..)
+  , ReservedNames (..)
   , Model (..)
   , mastertoolXE
   , tecomat
@@ -174,6 +175,14 @@ data StandardLibrary = LibraryIec | LibraryCodesys
 data Extensions = ExtensionsNone | ExtensionsCodesys
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | Which names a user declaration cannot take besides the keywords:
+-- IEC's reading (types, standard functions and FBs, and their parameters'
+-- names: TC-LEX-3, TC-LEX-4), or CODESYS's list (NX-LEX-12: types,
+-- operators and functions, the IL operators such as S, R, LD, CAL; the
+-- parameters' names are free).
+data ReservedNames = ReservedIec | ReservedCodesys
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 -- | The controller a dialect runs on: MasterTool's (operand tables, CHF
 -- parameters, per-call initialisation, the diagnostic band) or IEC
 -- 61131-3's (program instances, tasks, a clock). Part of the preset, not a
@@ -220,6 +229,7 @@ data Policies = Policies
   , pSubrange :: !SubrangeCheck
   , pStandardLibrary :: !StandardLibrary
   , pExtensions :: !Extensions
+  , pReservedNames :: !ReservedNames
   }
   deriving (Eq, Show)
 
@@ -262,6 +272,7 @@ mastertoolXE =
     , pSubrange = SubrangeError
     , pStandardLibrary = LibraryIec
     , pExtensions = ExtensionsNone
+    , pReservedNames = ReservedIec
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -301,6 +312,7 @@ tecomat =
     , pSubrange = SubrangeError -- TC-TYPE-33
     , pStandardLibrary = LibraryIec -- TC-FB-2..8
     , pExtensions = ExtensionsNone
+    , pReservedNames = ReservedIec -- TC-LEX-3, TC-LEX-4
     }
 
 -- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
@@ -339,6 +351,7 @@ nexto =
     , pSubrange = SubrangeUnchecked -- NX-TYPE-71, NX-ERR-17
     , pStandardLibrary = LibraryCodesys -- NX-FB-1, NX-FB-4, NX-FB-11
     , pExtensions = ExtensionsCodesys
+    , pReservedNames = ReservedCodesys -- NX-LEX-12, NX-LEX-13
     }
 
 -- | Named presets: each dialect is an entry here, not a fork of the code.
@@ -418,6 +431,7 @@ policyTable =
   , enumPolicy "subrange" ["error", "unchecked"] pSubrange (\v p -> p {pSubrange = v})
   , enumPolicy "standard-library" ["iec", "codesys"] pStandardLibrary (\v p -> p {pStandardLibrary = v})
   , enumPolicy "extensions" ["none", "codesys"] pExtensions (\v p -> p {pExtensions = v})
+  , enumPolicy "reserved-names" ["iec", "codesys"] pReservedNames (\v p -> p {pReservedNames = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

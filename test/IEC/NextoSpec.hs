@@ -2,6 +2,7 @@
 -- IEC core. Expected values come from the rules named, worked out by hand.
 module IEC.NextoSpec (spec) where
 
+import qualified Data.Text.IO as TIO
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -55,3 +56,22 @@ spec = describe "the nexto dialect" $ do
       runMain nexto "VAR i : INT; END_VAR IF TRUE THEN i := 1; END_IF i := i + 1;" 1 "i" `shouldBe` Right (VInt INT 2)
     it "under extensions = none, CONTINUE is no statement" $
       rejectKind nexto {pExtensions = ExtensionsNone} "PROGRAM MAIN\nVAR i : INT; END_VAR\nFOR i := 1 TO 2 DO CONTINUE; END_FOR;\nEND_PROGRAM\n" `shouldSatisfy` (/= Nothing)
+  describe "methods, properties, actions, EXTENDS (test/fixtures/nexto/methods.st)" $ do
+    src <- runIO (TIO.readFile "test/fixtures/nexto/methods.st")
+    let at path = runUnit nexto src 1 path
+    it "a method calling another method dispatches on the instance's type (NX-POU-31, NX-POU-34)" $ do
+      at "MAIN.r1" `shouldBe` Right (VInt INT 1)
+      at "MAIN.r2" `shouldBe` Right (VInt INT 2)
+    it "SUPER^.m() runs the base's method (NX-POU-46)" $
+      at "MAIN.r3" `shouldBe` Right (VInt INT 10)
+    it "THIS^.x is the instance's x where an input x hides it (NX-POU-28)" $
+      at "MAIN.r4" `shouldBe` Right (VInt INT 8)
+    it "a property's SET and GET (NX-POU-38)" $ do
+      at "MAIN.b.milli" `shouldBe` Right (VInt DINT 22000)
+      at "MAIN.sec" `shouldBe` Right (VInt DINT 22)
+    it "an action runs on the instance's variables (NX-POU-41)" $
+      at "MAIN.r5" `shouldBe` Right (VInt INT 0)
+    it "a derived FB that declares a base variable again is rejected (NX-POU-45)" $
+      rejectKind nexto "FUNCTION_BLOCK A\nVAR x : INT; END_VAR\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK B EXTENDS A\nVAR x : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR b : B; END_VAR\nb();\nEND_PROGRAM\n" `shouldBe` Just ("redeclared-inherited", 5)
+    it "multiple inheritance is rejected (NX-POU-47)" $
+      fmap fst (rejectKind nexto "FUNCTION_BLOCK A\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK C\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK B EXTENDS A, C\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nEND_PROGRAM\n") `shouldBe` Just "multiple-inheritance"

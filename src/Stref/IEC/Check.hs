@@ -54,6 +54,9 @@ data Env = Env
   , envLocals :: M.Map Text VarInfo
   , envLoop :: Bool
   , envLabels :: Set.Set Text -- ^ the labels of the enclosing blocks (NX-STMT-42)
+  , envSelf :: Maybe Text -- ^ the FB or program whose instance the code runs on (its body, methods, actions)
+  , envInstanceVars :: M.Map Text VarInfo -- ^ in a method: the variables of its instance (NX-POU-27, NX-POU-29)
+  , envMembersOf :: M.Map Text (M.Map Text (PouKind, [VarInfo])) -- ^ the methods, accessors and actions every POU declares (lazy)
   , envTypeDepth :: Int
   }
 
@@ -74,12 +77,23 @@ standardFunctionNames =
 -- | TC-LEX-1, TC-LEX-3 (and TC-LEX-4, taken literally): elementary type
 -- names, standard functions and FBs, and the names of their parameters are
 -- not user names.
-reservedName :: Text -> Bool
-reservedName n =
+reservedName :: Policies -> Text -> Bool
+reservedName pol n =
   let u = key n
    in isJust (parseElemName u) || u `elem` standardFunctionNames || u `elem` standardFBNames || isJust (conversionName u)
-        || u `elem` standardParameterNames
-        || (("IN" `T.isPrefixOf` u) && T.length u > 2 && T.all (`elem` ['0' .. '9']) (T.drop 2 u))
+        || case pReservedNames pol of
+          ReservedIec ->
+            u `elem` standardParameterNames
+              || (("IN" `T.isPrefixOf` u) && T.length u > 2 && T.all (`elem` ['0' .. '9']) (T.drop 2 u))
+          ReservedCodesys -> u `elem` codesysReserved -- NX-LEX-12
+
+-- | NX-LEX-12: the words of the manual's list that are not keywords of the
+-- grammar already (IL operators, operators named like functions).
+codesysReserved :: [Text]
+codesysReserved =
+  [ "ADR", "BITADR", "CAL", "CALC", "CALCN", "INDEXOF", "JMPC", "JMPCN", "LD", "LDN", "PARAMS", "R", "READ_ONLY", "READ_WRITE"
+  , "RET", "RETC", "RETCN", "S", "SIZEOF", "ST", "STN", "BIT", "LTIME"
+  ]
 
 -- | The parameters of the standard functions (Tab.3.12-3.19) and FBs
 -- (Tab.3.22).
@@ -95,7 +109,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       std = M.fromList (standardFBs pol)
   -- duplicates and reserved names among the declared names
   let topNames = [(tdPos t, tdName t) | t <- typeDecls] ++ [(pouPos p, pouName p) | p <- pous]
-  forM_ topNames $ \(p, n) -> when (reservedName n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
+  forM_ topNames $ \(p, n) -> when (reservedName pol n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
   checkDuplicates topNames
   checkRecursion True pous globalBlocks -- before instances are built from their declarations
   let envBase =
@@ -110,22 +124,29 @@ checkUnit pol choice (Unit decls) = runExcept $ do
           , envLocals = M.empty
           , envLoop = False
           , envLabels = Set.empty
+          , envSelf = Nothing
+          , envInstanceVars = M.empty
+          , envMembersOf = M.empty
           , envTypeDepth = 0
           }
   -- global CONSTANTs, which declarations may use (array bounds, initial
   -- values: TC-VAR-18, TC-VAR-31); computed before the POUs' variables
   constants <- runReaderT (concat <$> mapM (blockVars Nothing) [b | b <- globalBlocks, vbConstant b]) envBase
-  let env0 = envBase {envGlobals = M.fromList [(viKey v, v) | v <- constants], envVarsOf = varsOf}
+  forM_ pous (checkInheritance (M.fromList [(key (pouName p), p) | p <- pous]))
+  let env0 = envBase {envGlobals = M.fromList [(viKey v, v) | v <- constants], envVarsOf = varsOf, envMembersOf = membersOf}
       -- the variables of every POU, resolved once; laziness lets an FB's
       -- instance value use the variables of the FBs it contains
       varsOfE = ML.fromList [(key (pouName p), runExcept (runReaderT (pouVariables p) env0)) | p <- pous]
       varsOf = ML.map (either (const []) id) varsOfE
+      membersOfE = ML.fromList [(key (pouName p), runExcept (runReaderT (memberSignatures p) env0)) | p <- pous]
+      membersOf = ML.map (either (const M.empty) id) membersOfE
   -- report the first error in a POU's declarations
   forM_ pous $ \p -> either throwError (const (pure ())) (varsOfE M.! key (pouName p))
+  forM_ pous $ \p -> either throwError (const (pure ())) (membersOfE M.! key (pouName p))
   globals <- runReaderT (concat <$> mapM (blockVars Nothing) globalBlocks) env0
   checkDuplicates [(viPos v, viName v) | v <- globals]
   let env1 = env0 {envGlobals = M.fromList [(viKey v, v) | v <- globals]}
-  defs <- forM pous $ \p -> runReaderT (checkPou p) env1 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)]}
+  defs <- forM pous $ \p -> runReaderT (checkPou p) env1 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)], envSelf = selfOf p}
   checkRecursion False pous globalBlocks
   instances <- case choice of
     AllPrograms -> pure [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram]
@@ -155,6 +176,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prTaskInterval = interval
       }
   where
+    selfOf p = if pouKind p `elem` [KFunctionBlock, KProgram] then Just (key (pouName p)) else Nothing
     reservedMessage n = "'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name user declarations (TC-LEX-1, TC-LEX-3)"
 
 -- | TC-CFG-11: the programs of each task in the order of their association;
@@ -208,7 +230,59 @@ pouVariables p = do
       ty <- resolveType t
       pure [VarInfo (pouName p) (key (pouName p)) SecOutput ty (defaultValue ty) False Nothing Nothing (pouPos p)]
     _ -> pure []
-  pure (vs ++ result)
+  -- NX-POU-44, NX-POU-45: a derived FB has its base's variables first, and
+  -- declares none of their names again
+  inherited <- case pouExtends p of
+    Nothing -> pure []
+    Just (_, b) -> asks (fromMaybe [] . M.lookup (key b) . envVarsOf)
+  forM_ vs $ \v -> when (viKey v `elem` map viKey inherited) $
+    failC "redeclared-inherited" (viPos v) ("'" <> viName v <> "' is a variable of the base function block already; a derived FB cannot declare it again (NX-POU-45)")
+  pure (inherited ++ vs ++ result)
+
+-- | NX-POU-44, NX-POU-47: a function block extends a declared function
+-- block, and no chain of EXTENDS comes back to where it started.
+checkInheritance :: M.Map Text Pou -> Pou -> Except VerificationError ()
+checkInheritance pous p = go [key (pouName p)] (pouExtends p)
+  where
+    go _ Nothing = pure ()
+    go seen (Just (bp, b))
+      | key b `elem` seen = throwError (VerificationError "recursive-type" bp ("the function block " <> pouName p <> " extends itself through " <> b))
+      | otherwise = case M.lookup (key b) pous of
+          Just bpou | pouKind bpou == KFunctionBlock -> go (key b : seen) (pouExtends bpou)
+          _ -> throwError (VerificationError "undeclared-type" bp ("the function block " <> b <> " that " <> pouName p <> " extends is not declared"))
+
+-- | The methods, property accessors and actions a POU declares, with their
+-- variables (a method's result is a VAR_OUTPUT named like it; a GET's
+-- result and a SET's input are named like the property).
+memberSignatures :: Pou -> C (M.Map Text (PouKind, [VarInfo]))
+memberSignatures p = do
+  sigs <- forM (pouMembers p) $ \case
+    MMethod m -> do
+      vs <- concat <$> mapM (blockVars (Just KMethod)) (mtVars m)
+      result <- forM (mtResult m) $ \t -> do
+        ty <- resolveType t
+        pure (VarInfo (mtName m) (key (mtName m)) SecOutput ty (defaultValue ty) False Nothing Nothing (mtPos m))
+      let all' = vs ++ maybe [] pure result
+      either throwError pure (runExcept (checkDuplicates [(viPos v, viName v) | v <- all']))
+      pure [(key (mtName m), (KMethod, all'))]
+    MProperty pr -> do
+      ty <- resolveType (prType pr)
+      let own sec = VarInfo (prName pr) (key (prName pr)) sec ty (defaultValue ty) False Nothing Nothing (prPos pr)
+      getter <- forM (prGet pr) $ \(blocks, _) -> do
+        vs <- concat <$> mapM (blockVars (Just KMethod)) blocks
+        pure (getterKey (prName pr), (KMethod, vs ++ [own SecOutput]))
+      setter <- forM (prSet pr) $ \(blocks, _) -> do
+        vs <- concat <$> mapM (blockVars (Just KMethod)) blocks
+        pure (setterKey (prName pr), (KMethod, own SecInput : vs))
+      pure (maybe [] pure getter ++ maybe [] pure setter)
+    MAction _ n _ -> pure [(key n, (KAction, []))]
+  let flat = concat sigs
+  either throwError pure (runExcept (checkDuplicates [(pos', k) | (k, _) <- flat, let pos' = pouPos p]))
+  pure (M.fromList flat)
+
+getterKey, setterKey :: Text -> Text
+getterKey n = "GET$" <> key n
+setterKey n = "SET$" <> key n
 
 sectionName :: Section -> Text
 sectionName = \case
@@ -241,7 +315,8 @@ blockVars kind b = do
 
 declVars :: Maybe PouKind -> Section -> Bool -> VarDecl -> C [VarInfo]
 declVars kind sec constant d = do
-  forM_ (vdNames d) $ \(p, n) -> when (reservedName n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
+  pol <- asks envPol
+  forM_ (vdNames d) $ \(p, n) -> when (reservedName pol n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
   ty <- resolveType (vdType d)
   when (sec == SecExternal && isJust (vdInit d)) $
     failC "external-initialised" (vdPos d) "a VAR_EXTERNAL variable cannot have an initial value (TC-VAR-30)"
@@ -455,6 +530,7 @@ checkPou :: Pou -> C PouDef
 checkPou p = do
   locals <- asks envLocals
   body <- checkStmts (pouBody p)
+  members <- checkMembers p
   let vars = M.elems locals
       ordered = sortOn viPos vars
   pure
@@ -466,7 +542,50 @@ checkPou p = do
       , pdResult = (\k -> viType <$> M.lookup k locals) (key (pouName p)) >>= \t -> if pouKind p == KFunction then Just t else Nothing
       , pdBody = Statements body
       , pdEndPos = pouEnd p
+      , pdBase = key . snd <$> pouExtends p
+      , pdMethods = members
       }
+
+-- | The bodies of a POU's methods, accessors and actions. A method runs in
+-- a frame of its own and reaches its instance's variables (but not its
+-- VAR_IN_OUT and VAR_TEMP: NX-POU-29); an action runs on the instance's
+-- variables as the body does (NX-POU-41).
+checkMembers :: Pou -> C (M.Map Text PouDef)
+checkMembers p = do
+  sigs <- asks (fromMaybe M.empty . M.lookup (key (pouName p)) . envMembersOf)
+  instanceVars <- asks envLocals
+  let visible = M.filter (\v -> viSection v `notElem` [SecInOut, SecTemp]) instanceVars
+      method k name' pos' end' blocksBody = case M.lookup k sigs of
+        Nothing -> pure []
+        Just (kind, vars) -> do
+          let varMap = M.fromList [(viKey v, v) | v <- vars]
+          body <- local (\e -> e {envLocals = varMap, envInstanceVars = visible, envLoop = False, envLabels = Set.empty}) (checkStmts blocksBody)
+          pure
+            [ ( k
+              , PouDef
+                  { pdKind = kind
+                  , pdName = name'
+                  , pdVars = vars
+                  , pdVarMap = varMap
+                  , pdResult = viType <$> find (\v -> viSection v == SecOutput && viKey v == resultKey k) vars
+                  , pdBody = Statements body
+                  , pdEndPos = end'
+                  , pdBase = Nothing
+                  , pdMethods = M.empty
+                  }
+              )
+            ]
+      resultKey k = maybe k id (T.stripPrefix "GET$" k)
+  defs <- forM (pouMembers p) $ \case
+    MMethod m -> method (key (mtName m)) (mtName m) (mtPos m) (mtPos m) (mtBody m)
+    MProperty pr -> do
+      g <- maybe (pure []) (method (getterKey (prName pr)) (prName pr) (prPos pr) (prPos pr) . snd) (prGet pr)
+      st <- maybe (pure []) (method (setterKey (prName pr)) (prName pr) (prPos pr) (prPos pr) . snd) (prSet pr)
+      pure (g ++ st)
+    MAction ap n stmts -> do
+      body <- local (\e -> e {envLoop = False, envLabels = Set.empty}) (checkStmts stmts)
+      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing M.empty)]
+  pure (M.fromList (concat defs))
 
 checkStmts :: [Stmt] -> C [CStmt]
 checkStmts ss = do
@@ -477,10 +596,16 @@ checkStmts ss = do
 checkStmt :: Stmt -> C (Maybe CStmt)
 checkStmt = \case
   SEmpty _ -> pure Nothing
-  SAssign p target value -> do
-    (ref, ty) <- checkTarget target
-    v <- checkExprAt (Just ty) value >>= assignable ty
-    pure (Just (CAssign p ref ty v))
+  SAssign p target value
+    | isMemberPath target -> do
+        prop <- propertyAccess setterKey target
+        case prop of
+          Just (ref, d, ty, n) -> do
+            -- NX-POU-38: writing a property calls its SET
+            v <- checkExprAt (Just ty) value >>= assignable ty
+            pure (Just (CEval p (CExpr p (TElem BOOL) (CMethod d ref [(n, v)] [] []))))
+          Nothing -> plainAssign p target value
+  SAssign p target value -> plainAssign p target value
   SCall p callee args -> Just <$> checkCallStmt p callee args
   SIf p arms els -> do
     arms' <- forM arms $ \(c, b) -> (,) <$> condition c <*> checkStmts b
@@ -548,6 +673,20 @@ checkStmt = \case
               go cur rest ((op, ref, ty, Nothing) : acc)
     Just . CChain p v <$> go v (reverse targets) []
 
+-- | An assignment to a variable.
+plainAssign :: Pos -> Expr -> Expr -> C (Maybe CStmt)
+plainAssign p target value = do
+  (ref, ty) <- checkTarget target
+  v <- checkExprAt (Just ty) value >>= assignable ty
+  pure (Just (CAssign p ref ty v))
+
+-- | Could the expression name a property: @x.f@, or a bare name?
+isMemberPath :: Expr -> Bool
+isMemberPath = \case
+  EField {} -> True
+  EVar {} -> True
+  _ -> False
+
 condition :: Expr -> C CExpr
 condition c = do
   ce <- checkExprAt (Just (TElem BOOL)) c 
@@ -595,6 +734,7 @@ checkRef = \case
         d <- fbVars fb
         case find ((== key f) . viKey) d of
           Nothing -> failC "undeclared-variable" p ("the function block " <> fb <> " has no variable " <> f)
+          Just v | own base -> pure (CField ref (key f), viType v, Writable) -- NX-POU-28: THIS^.x
           Just v -> case viSection v of
             SecInput -> pure (CField ref (key f), viType v, access) -- TC-POU-25
             SecOutput -> pure (CField ref (key f), viType v, ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)"))
@@ -612,7 +752,122 @@ checkRef = \case
             _ -> failC "type-mismatch" (exprPos i) "an array index is an integer (TC-TYPE-38)"
         pure (CIndex ref is, t, access)
       _ -> failC "type-mismatch" p (typeText ty <> " is not an array")
+  EDeref p (EThis _) -> do
+    -- NX-POU-28: THIS^ is the instance the code runs on
+    self <- asks envSelf
+    case self of
+      Just t -> (\ty -> (CThis, ty, Writable)) <$> selfType p t
+      Nothing -> failC "not-a-variable" p "THIS is the instance of a function block; it is used inside one"
+  EDeref p (ESuper _) -> do
+    (_, b) <- superOf p
+    pure (CThis, TFB b, Writable)
+  EGlobalScope p n -> do
+    -- NX-OP-88, NX-VAR-34: .name is the global, whatever a local is called
+    globals <- asks envGlobals
+    case M.lookup (key n) globals of
+      Just g -> pure (maybe (CGlobal (key n)) (\l -> CLocated l (viType g)) (viAt g), viType g, if viConstant g then ReadOnly ("the CONSTANT " <> viName g <> " cannot be written") else Writable)
+      Nothing -> failC "undeclared-variable" p ("there is no global variable " <> n)
   e -> failC "not-a-variable" (exprPos e) "a variable was expected here"
+  where
+    own = \case
+      EDeref _ (EThis _) -> True
+      EDeref _ (ESuper _) -> True
+      _ -> False
+
+-- | The type of the instance a POU's code runs on.
+selfType :: Pos -> Text -> C Type
+selfType p t = do
+  pous <- asks envPous
+  case M.lookup t pous of
+    Just pou | pouKind pou == KProgram -> pure (TProgram (pouName pou))
+    Just pou -> pure (TFB (pouName pou))
+    Nothing -> failC "not-a-variable" p "THIS is the instance of a function block"
+
+-- | NX-POU-46: SUPER^ is the running instance seen as its base FB.
+superOf :: Pos -> C (Text, Text)
+superOf p = do
+  self <- asks envSelf
+  pous <- asks envPous
+  case self >>= (`M.lookup` pous) of
+    Just pou | Just (_, b) <- pouExtends pou -> pure (key (pouName pou), b)
+    _ -> failC "not-a-variable" p "SUPER^ names the base of a function block that EXTENDS another"
+
+------------------------------------------------------------------------------
+-- Methods, properties and actions (CODESYS: NX-POU-25..47)
+
+-- | A method, accessor or action of a POU type, its own or inherited: its
+-- kind and variables.
+memberOf :: Text -> Text -> C (Maybe (PouKind, [VarInfo]))
+memberOf t m = go (16 :: Int) (key t)
+  where
+    go 0 _ = pure Nothing
+    go n k = do
+      members <- asks envMembersOf
+      pous <- asks envPous
+      case M.lookup k members >>= M.lookup (key m) of
+        Just sig -> pure (Just sig)
+        Nothing -> case M.lookup k pous >>= pouExtends of
+          Just (_, b) -> go (n - 1) (key b)
+          Nothing -> pure Nothing
+
+-- | The instance and type a call or property access names: @inst.m@,
+-- @THIS^.m@, @p^.m@, @SUPER^.m@ (static), or a bare @m@ of the running
+-- instance. Nothing when the callee is not a member.
+memberTarget :: Expr -> C (Maybe (CRef, Text, Text, Bool))
+memberTarget = \case
+  EField p (EDeref _ (ESuper _)) m -> do
+    (_, b) <- superOf p
+    pure (Just (CThis, b, m, False))
+  EField _ base m -> do
+    r <- (Just <$> checkRef base) `catchError` const (pure Nothing)
+    case r of
+      Just (ref, TFB t, _) -> pure (Just (ref, t, m, True))
+      Just (ref, TProgram t, _) -> pure (Just (ref, t, m, True))
+      _ -> pure Nothing
+  EVar p m -> do
+    self <- asks envSelf
+    found <- lookupName p m
+    case (self, found) of
+      (Just t, Nothing) -> pure (Just (CThis, t, m, True))
+      _ -> pure Nothing
+  _ -> pure Nothing
+
+-- | A call of a method or action (NX-POU-30, NX-POU-42), Nothing when the
+-- callee names none. A method binds its own parameters; an action the
+-- inputs of its POU. The value is the method's result.
+memberCall :: Pos -> Expr -> [Arg] -> C (Maybe CExpr)
+memberCall p callee args = do
+  target <- memberTarget callee
+  case target of
+    Nothing -> pure Nothing
+    Just (ref, t, m, virtual) -> do
+      sig <- memberOf t m
+      case sig of
+        Nothing -> pure Nothing
+        Just (kind, vars) -> do
+          params <- if kind == KAction then fbVars t else pure vars
+          (ins, inouts, outs) <- bindArgs p m params args
+          let result = maybe (TElem BOOL) viType (find (\v -> viKey v == key m && viSection v == SecOutput) vars)
+              dispatch = if virtual then Virtual (key m) else Static (key t) (key m)
+          pure (Just (CExpr p result (CMethod dispatch ref ins inouts outs)))
+
+-- | A property of an instance (NX-POU-37, NX-POU-38): where the instance is
+-- and the property's type, when the expression names one with that accessor.
+propertyAccess :: (Text -> Text) -> Expr -> C (Maybe (CRef, Dispatch, Type, Text))
+propertyAccess accessor e = do
+  target <- case e of
+    EField {} -> memberTarget e
+    EVar {} -> memberTarget e
+    _ -> pure Nothing
+  case target of
+    Nothing -> pure Nothing
+    Just (ref, t, n, virtual) -> do
+      isVar <- any ((== key n) . viKey) <$> fbVars t
+      sig <- if isVar then pure Nothing else memberOf t (accessor n)
+      pure $ case sig of
+        Just (_, vars) | Just v <- find ((== key n) . viKey) vars ->
+          Just (ref, if virtual then Virtual (accessor n) else Static (key t) (accessor n), viType v, key n)
+        _ -> Nothing
 
 fbVars :: Text -> C [VarInfo]
 fbVars fb = do
@@ -626,6 +881,7 @@ lookupName :: Pos -> Text -> C (Maybe (CRef, Type, Access))
 lookupName _ n = do
   pol <- asks envPol
   locals <- asks envLocals
+  instanceVars <- asks envInstanceVars
   globals <- asks envGlobals
   pou <- asks envPou
   let k = key n
@@ -645,11 +901,12 @@ lookupName _ n = do
         | viConstant g = ReadOnly ("the CONSTANT " <> viName g <> " cannot be written (TC-VAR-18)")
         | otherwise = Writable
       loc = M.lookup k locals >>= asLocal
+      inst = (\v -> (CInstance k, viType v, globalAccess v)) <$> M.lookup k instanceVars
       glob = asGlobal <$> M.lookup k globals
   let _ = pou
   pure $ case pNameResolution pol of
-    LocalWins -> maybe glob Just loc
-    GlobalWins -> maybe loc Just glob
+    LocalWins -> maybe (maybe glob Just inst) Just loc
+    GlobalWins -> maybe (maybe inst Just loc) Just glob
 
 ------------------------------------------------------------------------------
 -- Expressions
@@ -747,8 +1004,26 @@ infer expected = \case
     case r of
       Just (_, _, Hidden why) -> failC "read-not-allowed" p why
       Just (ref, ty, _) -> fixed p ty (CRead ref)
-      Nothing -> enumValue p n expected
-  e@EField {} -> readRef e
+      Nothing -> do
+        prop <- propertyAccess getterKey (EVar p n)
+        case prop of
+          Just (ref, d, ty, _) -> fixed p ty (CMethod d ref [] [] [])
+          Nothing -> enumValue p n expected
+  e@(EField p _ _) -> do
+    prop <- propertyAccess getterKey e
+    case prop of
+      Just (ref, d, ty, _) -> fixed p ty (CMethod d ref [] [] [])
+      Nothing -> readRef e
+  e@EDeref {} -> readRef e
+  e@EGlobalScope {} -> readRef e
+  EInvoke p callee args -> do
+    r <- memberCall p callee args
+    case r of
+      Just ce -> pure (ce, Fixed)
+      Nothing -> failC "not-a-function-block" p "this names no method of a function block"
+  ECall p f args -> do
+    r <- isUserFunction f >>= \isF -> if isF then pure Nothing else memberCall p (EVar p f) args
+    maybe (callExpr expected p f args) (\ce -> pure (ce, Fixed)) r
   e@EIndex {} -> readRef e
   e@ELocated {} -> readRef e
   EUn p UNeg (ELit _ (LInt n)) -> pure (CExpr p (TElem DINT) (CConst (VInt DINT (negate n))), FlexInt (negate n)) -- TC-LEX-27
@@ -758,7 +1033,16 @@ infer expected = \case
     t <- either (failC "invalid-unary-operation" p) pure (unaryType o (ceType ca))
     fixed p t (CUnary o ca)
   EBin p o a b -> binaryExpr expected p o a b
-  ECall p f args -> callExpr expected p f args
+  EThis p -> failC "not-a-variable" p "THIS is a pointer; THIS^ is the instance"
+  ESuper p -> failC "not-a-variable" p "SUPER is a pointer; SUPER^ is the base instance"
+
+-- | Is the name a FUNCTION of the unit, a standard function or a conversion?
+isUserFunction :: Text -> C Bool
+isUserFunction f = do
+  pous <- asks envPous
+  pure $ case M.lookup (key f) pous of
+    Just pou -> pouKind pou == KFunction
+    Nothing -> key f `elem` standardFunctionNames || isJust (conversionName (key f))
 
 fixed :: Pos -> Type -> CNode -> C TExpr
 fixed p t n = pure (CExpr p t n, Fixed)
@@ -1082,7 +1366,17 @@ bindArgs p callee vars args = do
 checkCallStmt :: Pos -> Expr -> [Arg] -> C CStmt
 checkCallStmt p callee args = do
   pous <- asks envPous
+  member' <- case callee of
+    EDeref _ (ESuper _) -> pure Nothing
+    _ -> memberCall p callee args
   case callee of
+    _ | Just ce <- member' -> pure (CEval p ce)
+    EDeref sp (ESuper _) -> do
+      -- NX-POU-46: SUPER^() runs the base FB's body on this instance
+      (_, b) <- superOf sp
+      vars <- fbVars b
+      (ins, inouts, outs) <- bindArgs p b vars args
+      pure (CCallFB p (FBCall CThis (key b) ins inouts outs))
     EVar _ n | isFunctionName pous n -> do
       locals <- asks envLocals
       if M.member (key n) locals

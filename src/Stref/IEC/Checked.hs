@@ -9,11 +9,13 @@ module Stref.IEC.Checked
   , CExpr (..)
   , CNode (..)
   , CRef (..)
+  , Dispatch (..)
   , CStmt (..)
   , FBCall (..)
   , StandardFB
   , FBState
   , lookupPou
+  , findMethod
   , varByKey
   , key
   ) where
@@ -73,10 +75,24 @@ data PouDef = PouDef
   , pdResult :: Maybe Type
   , pdBody :: Body
   , pdEndPos :: Pos
+  , pdBase :: Maybe Text -- ^ the FB it extends, by key (NX-POU-44)
+  , pdMethods :: Map Text PouDef -- ^ its own methods, property accessors and actions, by key
   }
 
 lookupPou :: Program -> Text -> Maybe PouDef
 lookupPou p n = M.lookup (key n) (prPous p)
+
+-- | A method (accessor, action) of a POU type, its own or inherited, with
+-- the type that declares it.
+findMethod :: Program -> Text -> Text -> Maybe PouDef
+findMethod prog t m = go (16 :: Int) t
+  where
+    go 0 _ = Nothing
+    go n k = do
+      d <- lookupPou prog k
+      case M.lookup (key m) (pdMethods d) of
+        Just md -> Just md
+        Nothing -> pdBase d >>= go (n - 1)
 
 -- | A typed expression.
 data CExpr = CExpr {cePos :: Pos, ceType :: Type, ceNode :: CNode}
@@ -89,6 +105,14 @@ data CNode
   | CConvert Type CExpr -- ^ a conversion to the node's type from the operand's
   | CStandard Text [CExpr] -- ^ a standard function by key, its arguments in order
   | CCall Text [(Text, CExpr)] [(Text, CRef)] -- ^ a user function: inputs by parameter key, in-outs by reference
+  | CMethod Dispatch CRef [(Text, CExpr)] [(Text, CRef)] [(Text, CRef, Type)]
+  -- ^ a method, accessor or action of an instance: its inputs, in-outs and
+  -- @=>@ outputs; the value is the method's result
+
+-- | Which method a call runs: the one the instance's own type has (or
+-- inherits), found when the call runs (NX-POU-31); or the one of a named FB
+-- type (@SUPER^.m()@, NX-POU-46).
+data Dispatch = Virtual Text | Static Text Text
 
 -- | A variable as the program names it.
 data CRef
@@ -97,6 +121,8 @@ data CRef
   | CField CRef Text -- ^ a structure's field or an FB instance's variable
   | CIndex CRef [CExpr] -- ^ an array element
   | CLocated Location Type -- ^ a direct address read as a type
+  | CThis -- ^ the instance a function block's body, method or action runs on (NX-POU-28)
+  | CInstance Text -- ^ a variable of that instance, named inside one of its methods (NX-POU-27)
 
 data FBCall = FBCall
   { fcInstance :: CRef

@@ -29,7 +29,7 @@ import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert)
 import Stref.IEC.Operators (binary, unary)
 import Stref.IEC.Standard (standard)
-import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), Section (..))
+import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -55,6 +55,7 @@ data Ctx = Ctx
   { cxPol :: Policies
   , cxProgram :: Program
   , cxSelf :: RefPath -- ^ the running POU's instance or frame
+  , cxThis :: RefPath -- ^ the instance its code runs on (a method's: NX-POU-27)
   , cxDepth :: Int
   }
 
@@ -86,9 +87,9 @@ runCycle :: Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
 runCycle pol prog clock m0 =
   let m = m0 {mClock = clock, mSteps = 0, mFrames = M.empty}
       run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
-        Just d -> local (\c -> c {cxSelf = RefPath (RootProgram (key inst)) []}) (callBody d)
+        Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
-      ctx = Ctx pol prog (RefPath (RootProgram "") []) 0
+      ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) 0
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
         Left (SigFault p f) -> (m', Just (StopFault p f))
@@ -149,7 +150,7 @@ callFB p c = do
   bindInOuts inst inouts
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
-  local (\cx -> cx {cxSelf = inst, cxDepth = depth + 1}) (callBody d)
+  local (\cx -> cx {cxSelf = inst, cxThis = inst, cxDepth = depth + 1}) (callBody d)
   copyBack inst inouts
   forM_ (fcOutputs c) $ \(k, r, t) -> do
     v <- getPath (extend inst (StepField k))
@@ -407,6 +408,57 @@ eval ce = case ceNode ce of
     vs <- mapM eval args
     orFault (cePos ce) (standard pol f (map ceType args) vs)
   CCall f ins inouts -> callFunction (cePos ce) f ins inouts
+  CMethod d r ins inouts outs -> callMethod (cePos ce) d r ins inouts outs
+
+-- | A method, accessor or action called on an instance (NX-POU-25..43):
+-- which one runs is the instance's own type's (or the nearest base's) for a
+-- virtual call (NX-POU-31, NX-POU-34), the named type's for SUPER^
+-- (NX-POU-46). A method runs in a fresh frame with the instance as THIS
+-- (NX-POU-26, NX-POU-27); an action runs on the instance's variables, its
+-- inputs written first (NX-POU-43). @=>@ outputs are copied after.
+callMethod :: Pos -> Dispatch -> CRef -> [(Text, CExpr)] -> [(Text, CRef)] -> [(Text, CRef, Type)] -> Eval Value
+callMethod p d r ins inouts outs = do
+  prog <- asks cxProgram
+  inst <- refPath p r
+  self <- getPath inst
+  let (owner, m) = case (d, self) of
+        (Virtual k, VInstance t _) -> (key t, k)
+        (Virtual k, _) -> ("", k)
+        (Static t k, _) -> (t, k)
+  md <- maybe (fault p (Fault "call-depth" ("no method " <> m <> " for " <> owner))) pure (findMethod prog owner m)
+  inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
+  refs <- forM inouts $ \(k, x) -> (k,x,) <$> refPath p x
+  depth <- asks cxDepth
+  when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  result <- case pdKind md of
+    KAction -> do
+      td <- maybe (fault p (Fault "call-depth" ("unknown type " <> owner))) pure (lookupPou prog owner)
+      forM_ inputs $ \(k, v) -> storePath p (paramType td k) (extend inst (StepField k)) v
+      bindInOuts inst refs
+      local (\cx -> cx {cxSelf = inst, cxThis = inst, cxDepth = depth + 1}) (callBody md)
+      copyBack inst refs
+      forM_ outs $ \(k, x, t) -> do
+        v <- getPath (extend inst (StepField k))
+        target <- refPath p x
+        storeTarget p t x target v
+      pure (VBool False)
+    _ -> do
+      let frame = RefPath (RootFrame (depth + 1)) []
+      modify' (\mc -> mc {mFrames = M.insert (depth + 1) (VInstance (pdName md) (M.fromList [(viKey v, viInit v) | v <- pdVars md])) (mFrames mc)})
+      forM_ inputs $ \(k, v) -> storePath p (paramType md k) (extend frame (StepField k)) v
+      bindInOuts frame refs
+      local (\cx -> cx {cxSelf = frame, cxThis = inst, cxDepth = depth + 1}) (callBody md)
+      copyBack frame refs
+      forM_ outs $ \(k, x, t) -> do
+        v <- getPath (extend frame (StepField k))
+        target <- refPath p x
+        storeTarget p t x target v
+      v <- getPathOr (extend frame (StepField (resultKey md))) (VBool False)
+      modify' (\mc -> mc {mFrames = M.delete (depth + 1) (mFrames mc)})
+      pure v
+  pure result
+  where
+    resultKey md = key (pdName md)
 
 ------------------------------------------------------------------------------
 -- Variables
@@ -440,6 +492,10 @@ refPath p = \case
         pure (extend base (StepIndex checked))
       _ -> pure (extend base (StepIndex ns))
   CLocated l _ -> pure (RefPath (RootLocated (locText l)) [])
+  CThis -> asks cxThis
+  CInstance k -> do
+    this <- asks cxThis
+    follow (extend this (StepField k))
   where
     follow path = do
       v <- getPathOr path (VBool False)

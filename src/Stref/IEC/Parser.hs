@@ -463,6 +463,7 @@ typeSpec pol = do
         symbol pol "]"
         kw pol "OF"
         TSArray p dims <$> typeSpec pol
+    , extensionP pol (kw pol "POINTER" *> kw pol "TO" *> (TSPointer p <$> typeSpec pol))
     , kw pol "STRUCT" *> (TSStruct p . concat <$> many (varDecls pol)) <* kw pol "END_STRUCT"
     , TSEnum p <$> (symbol pol "(" *> identifier pol `sepBy1` symbol pol "," <* symbol pol ")")
     , do
@@ -553,11 +554,70 @@ pou pol = do
       ]
   n <- name pol
   result <- if kind == KFunction then Just <$> (symbol pol ":" *> typeSpec pol) else pure Nothing
+  base <- if kind == KFunctionBlock then optional (extensionP pol (extendsClause pol)) else pure Nothing
   blocks <- many (varBlock pol)
+  before <- many (member pol)
   body <- statements pol
+  after <- many (member pol)
   e <- pos
   kw pol endKw
-  pure (Pou p kind n result blocks body e)
+  pure (Pou p kind n result blocks body e base (before ++ after))
+
+-- | @EXTENDS A@; a second base is @multiple-inheritance@ (NX-POU-47).
+extendsClause :: Policies -> Parser (Pos, Name)
+extendsClause pol = do
+  kw pol "EXTENDS"
+  b <- identifier pol
+  off <- getOffset
+  more <- optional (symbol pol ",")
+  case more of
+    Just () -> failAt off "multiple-inheritance" "a function block extends one function block only (NX-POU-47)"
+    Nothing -> pure b
+
+-- | Under @extensions = codesys@ only.
+extensionP :: Policies -> Parser a -> Parser a
+extensionP pol q = if codesys pol then q else empty
+
+-- | A METHOD, PROPERTY or ACTION written inside its POU (docs/nexto.md).
+member :: Policies -> Parser Member
+member pol = extensionP pol (choice [method, property, action])
+  where
+    specifiers = many (choice [kw pol w | w <- ["PUBLIC", "PRIVATE", "PROTECTED", "INTERNAL", "FINAL", "ABSTRACT"]])
+    method = do
+      p <- pos
+      kw pol "METHOD"
+      _ <- specifiers
+      n <- name pol
+      result <- optional (symbol pol ":" *> typeSpec pol)
+      blocks <- many (varBlock pol)
+      body <- statements pol
+      kw pol "END_METHOD"
+      pure (MMethod (Method p n result blocks body))
+    property = do
+      p <- pos
+      kw pol "PROPERTY"
+      _ <- specifiers
+      n <- name pol
+      symbol pol ":"
+      t <- typeSpec pol
+      getter <- optional (accessor "GET" "END_GET")
+      setter <- optional (accessor "SET" "END_SET")
+      kw pol "END_PROPERTY"
+      pure (MProperty (Property p n t getter setter))
+    accessor open close = do
+      kw pol open
+      blocks <- many (varBlock pol)
+      body <- statements pol
+      kw pol close
+      pure (blocks, body)
+    action = do
+      p <- pos
+      kw pol "ACTION"
+      n <- name pol
+      _ <- optional (symbol pol ":")
+      body <- statements pol
+      kw pol "END_ACTION"
+      pure (MAction p n body)
 
 configuration :: Policies -> Parser Configuration
 configuration pol = do
@@ -608,7 +668,7 @@ resourceBody pol p n = do
 
 -- | Keywords that end a statement list.
 enders :: [Text]
-enders = ["END_IF", "ELSIF", "ELSE", "END_CASE", "END_FOR", "END_WHILE", "UNTIL", "END_REPEAT", "END_FUNCTION", "END_FUNCTION_BLOCK", "END_PROGRAM"]
+enders = ["END_IF", "ELSIF", "ELSE", "END_CASE", "END_FOR", "END_WHILE", "UNTIL", "END_REPEAT", "END_FUNCTION", "END_FUNCTION_BLOCK", "END_PROGRAM", "METHOD", "END_METHOD", "PROPERTY", "ACTION", "END_ACTION", "END_GET", "END_SET"]
 
 atEnder :: Policies -> Parser Bool
 atEnder pol = isJust <$> optional (lookAhead (choice (map (kw pol) enders) <|> elsifKw pol))
@@ -719,7 +779,10 @@ statement pol = do
     simple p = do
       target <- variable pol
       choice
-        [ do
+        [ case target of
+            EInvoke _ callee args -> SCall p callee args <$ symbol pol ";"
+            _ -> empty
+        , do
             op <- assignOp
             rest <- chain []
             v <- expr pol
@@ -834,22 +897,36 @@ primary pol = do
     ]
     <?> "an expression"
 
--- | A variable: a name, then fields and indices (TC-TYPE-38, TC-TYPE-42).
+-- | A variable: a name, then fields and indices (TC-TYPE-38, TC-TYPE-42);
+-- under CODESYS also @THIS@, @SUPER@, @.name@, dereferences @^@ and calls
+-- of what the path names (@inst.m(..)@).
 variable :: Policies -> Parser Expr
 variable pol = do
   p <- pos
-  base <- (ELocated p <$> location pol) <|> (EVar p <$> name pol)
+  base <-
+    choice
+      [ ELocated p <$> location pol
+      , extensionP pol (EThis p <$ kw pol "THIS")
+      , extensionP pol (ESuper p <$ kw pol "SUPER")
+      , extensionP pol (EGlobalScope p <$> (try (symbol pol "." *> lookAhead (satisfy isAsciiLetterOrUnderscore)) *> name pol))
+      , EVar p <$> name pol
+      ]
   postfix base
   where
+    isAsciiLetterOrUnderscore c = isAsciiUpper c || isAsciiLower c || c == '_'
     postfix acc = do
       p <- pos
       m <-
         optional $
           choice
             [ Left <$> (symbol pol "[" *> expr pol `sepBy1` symbol pol "," <* symbol pol "]")
-            , Right <$> try (symbol pol "." *> name pol)
+            , Right . Left <$> try (symbol pol "." *> name pol)
+            , Right (Right Nothing) <$ extensionP pol (symbol pol "^")
+            , Right . Right . Just <$> extensionP pol (try (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")") <* notFollowedBy (symbol pol ":="))
             ]
       case m of
         Nothing -> pure acc
         Just (Left ix) -> postfix (EIndex p acc ix)
-        Just (Right f) -> postfix (EField p acc f)
+        Just (Right (Left f)) -> postfix (EField p acc f)
+        Just (Right (Right Nothing)) -> postfix (EDeref p acc)
+        Just (Right (Right (Just args))) -> postfix (EInvoke p acc args)

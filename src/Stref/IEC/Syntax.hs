@@ -21,6 +21,9 @@ module Stref.IEC.Syntax
   , Location (..)
   , Pou (..)
   , PouKind (..)
+  , Member (..)
+  , Method (..)
+  , Property (..)
   , Configuration (..)
   , Resource (..)
   , Task (..)
@@ -72,6 +75,7 @@ data TypeSpec
   | TSStruct Pos [VarDecl] -- ^ @STRUCT ... END_STRUCT@
   | TSEnum Pos [(Pos, Name)] -- ^ @(a, b, c)@
   | TSSubrange Pos Name (Expr, Expr) -- ^ @INT (lo..hi)@
+  | TSPointer Pos TypeSpec -- ^ CODESYS: @POINTER TO T@ (NX-TYPE-74)
   deriving (Eq, Show)
 
 -- | An initial value: an expression, an array list (with @n(v)@
@@ -124,7 +128,12 @@ data VarDecl = VarDecl
   }
   deriving (Eq, Show)
 
-data PouKind = KFunction | KFunctionBlock | KProgram
+data PouKind
+  = KFunction
+  | KFunctionBlock
+  | KProgram
+  | KMethod -- ^ CODESYS: a method, or a property's accessor: a frame of its own, on an instance
+  | KAction -- ^ CODESYS: an action: more statements on the POU's own variables
   deriving (Eq, Show)
 
 data Pou = Pou
@@ -135,6 +144,38 @@ data Pou = Pou
   , pouVars :: [VarBlock]
   , pouBody :: [Stmt]
   , pouEnd :: Pos -- ^ where @END_...@ stands
+  , pouExtends :: Maybe (Pos, Name) -- ^ CODESYS: @FUNCTION_BLOCK B EXTENDS A@ (NX-POU-44)
+  , pouMembers :: [Member] -- ^ CODESYS: methods, properties and actions, written inside the POU
+  }
+  deriving (Eq, Show)
+
+-- | What CODESYS keeps as objects below a POU, in their textual form
+-- (docs/nexto.md): methods (NX-POU-25), properties (NX-POU-37) and
+-- actions (NX-POU-41).
+data Member
+  = MMethod Method
+  | MProperty Property
+  | MAction Pos Name [Stmt] -- ^ statements on the POU's own variables
+  deriving (Eq, Show)
+
+data Method = Method
+  { mtPos :: Pos
+  , mtName :: Name
+  , mtResult :: Maybe TypeSpec
+  , mtVars :: [VarBlock]
+  , mtBody :: [Stmt]
+  }
+  deriving (Eq, Show)
+
+-- | @PROPERTY name : T GET ... END_GET SET ... END_SET END_PROPERTY@: each
+-- accessor is a method; inside GET the property's name is the result,
+-- inside SET the value written.
+data Property = Property
+  { prPos :: Pos
+  , prName :: Name
+  , prType :: TypeSpec
+  , prGet :: Maybe ([VarBlock], [Stmt])
+  , prSet :: Maybe ([VarBlock], [Stmt])
   }
   deriving (Eq, Show)
 
@@ -218,6 +259,11 @@ data Expr
   | EBin Pos BinOp Expr Expr
   | ECall Pos Name [Arg] -- ^ a function call
   | EEnum Pos Name Name -- ^ @TYPE#value@
+  | EDeref Pos Expr -- ^ CODESYS: @p^@ (NX-TYPE-75), @THIS^@, @SUPER^@
+  | EInvoke Pos Expr [Arg] -- ^ a call of what an expression names: @inst.m(..)@, @p^.m()@, @SUPER^()@
+  | EGlobalScope Pos Name -- ^ CODESYS: @.name@, the global (NX-OP-88, NX-VAR-34)
+  | EThis Pos -- ^ CODESYS: @THIS@, a pointer to the running FB instance (NX-POU-28)
+  | ESuper Pos -- ^ CODESYS: @SUPER@, that instance as its base FB (NX-POU-46)
   deriving (Eq, Show)
 
 data Literal
@@ -283,6 +329,11 @@ exprPos = \case
   EBin p _ _ _ -> p
   ECall p _ _ -> p
   EEnum p _ _ -> p
+  EDeref p _ -> p
+  EInvoke p _ _ -> p
+  EGlobalScope p _ -> p
+  EThis p -> p
+  ESuper p -> p
 
 stmtPos :: Stmt -> Pos
 stmtPos = \case
