@@ -67,10 +67,7 @@ parseIec pol file src ast = case parseUnit pol file src of
           DConfig c -> TIO.putStrLn ("CONFIGURATION " <> cfgName c <> ": " <> T.intercalate ", " [pcInstance pc <> " : " <> pcType pc | r <- cfgResources c, pc <- resPrograms r])
         pure ExitSuccess
   where
-    kindWord = \case
-      KFunction -> "FUNCTION"
-      KFunctionBlock -> "FUNCTION_BLOCK"
-      KProgram -> "PROGRAM"
+    kindWord = pouKindKeyword
 
 -- | @stref check --dialect tecomat FILE@: parse and check the unit.
 checkIec :: Policies -> FilePath -> Text -> IO ExitCode
@@ -88,10 +85,7 @@ checkIec pol file src = case parseUnit pol file src >>= checkUnit pol AllProgram
       Statements _ -> True
       Native _ -> False
     posOf (Pos l c) = (l, c)
-    kindText = \case
-      KFunction -> "FUNCTION"
-      KFunctionBlock -> "FUNCTION_BLOCK"
-      KProgram -> "PROGRAM"
+    kindText = pouKindKeyword
 
 data RunIecOptions = RunIecOptions
   { riCalls :: Int
@@ -155,12 +149,15 @@ observedVariables r =
       prog = rrProgram r
       globals = [(viName v, v) | v <- prGlobals prog]
       instances = [(inst, t) | (inst, t) <- prInstances prog]
+      -- arrays by their own indices (ARRAY [0..4] from a[0]), structures and
+      -- instances field by field
       pathsOf prefix = \case
-        SMap fs -> concat [pathsOf (prefix <> "." <> k) v | (k, v) <- M.toList fs]
-        SList xs -> concat [pathsOf (prefix <> "[" <> T.pack (show i) <> "]") v | (i, v) <- zip [(1 :: Int) ..] xs]
-        s -> [(prefix, s)]
+        VArray bs xs -> concat [pathsOf (prefix <> "[" <> T.intercalate "," (map (T.pack . show) ix) <> "]") v | (ix, v) <- zip (sequence [[lo .. hi] | (lo, hi) <- bs]) (foldr (:) [] xs)]
+        VStruct fs -> concat [pathsOf (prefix <> "." <> k) x | (k, x) <- M.toList fs]
+        VInstance _ fs -> concat [pathsOf (prefix <> "." <> k) x | (k, x) <- M.toList fs, not ("$" `T.isInfixOf` k)]
+        v -> [(prefix, valueScalar v)]
       observe p = case parseVarPath p of
-        Right steps -> maybe [] (\(v, _) -> pathsOf p (valueScalar v)) (readVariablePath prog m steps)
+        Right steps -> maybe [] (\(v, _) -> pathsOf p v) (readVariablePath prog m steps)
         Left _ -> []
    in concatMap (\(n, _) -> observe n) globals
         ++ concat [observe (inst <> "." <> viName v) | (inst, t) <- instances, Just d <- [lookupPou prog t], v <- pdVars d, not (T.null (viName v))]

@@ -26,6 +26,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
+import Stref.IEC.Memory (Layout (..), sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
 import Stref.IEC.Standard (standardParameters, standardType)
 import Stref.IEC.StandardFB (standardFBNames, standardFBs)
@@ -295,10 +296,7 @@ sectionName = \case
   SecTemp -> "VAR_TEMP"
 
 kindName :: PouKind -> Text
-kindName = \case
-  KFunction -> "FUNCTION"
-  KFunctionBlock -> "FUNCTION_BLOCK"
-  KProgram -> "PROGRAM"
+kindName = pouKindKeyword
 
 -- | The variables of one block, with their types and initial values.
 blockVars :: Maybe PouKind -> VarBlock -> C [VarInfo]
@@ -437,6 +435,7 @@ resolveType = \case
       pure [(n, t) | (_, n) <- vdNames d]
     pure (TStruct "" (concat fs))
   TSEnum _ vs -> pure (TEnum "" (map snd vs))
+  TSPointer _ t -> TPointer <$> resolveType t
   TSSubrange p n (a, b) -> do
     base <- resolveType (TSName p n)
     lo <- constInt a
@@ -555,7 +554,7 @@ checkMembers p = do
   sigs <- asks (fromMaybe M.empty . M.lookup (key (pouName p)) . envMembersOf)
   instanceVars <- asks envLocals
   let visible = M.filter (\v -> viSection v `notElem` [SecInOut, SecTemp]) instanceVars
-      method k name' pos' end' blocksBody = case M.lookup k sigs of
+      method k name' end' blocksBody = case M.lookup k sigs of
         Nothing -> pure []
         Just (kind, vars) -> do
           let varMap = M.fromList [(viKey v, v) | v <- vars]
@@ -577,10 +576,10 @@ checkMembers p = do
             ]
       resultKey k = maybe k id (T.stripPrefix "GET$" k)
   defs <- forM (pouMembers p) $ \case
-    MMethod m -> method (key (mtName m)) (mtName m) (mtPos m) (mtPos m) (mtBody m)
+    MMethod m -> method (key (mtName m)) (mtName m) (mtPos m) (mtBody m)
     MProperty pr -> do
-      g <- maybe (pure []) (method (getterKey (prName pr)) (prName pr) (prPos pr) (prPos pr) . snd) (prGet pr)
-      st <- maybe (pure []) (method (setterKey (prName pr)) (prName pr) (prPos pr) (prPos pr) . snd) (prSet pr)
+      g <- maybe (pure []) (method (getterKey (prName pr)) (prName pr) (prPos pr) . snd) (prGet pr)
+      st <- maybe (pure []) (method (setterKey (prName pr)) (prName pr) (prPos pr) . snd) (prSet pr)
       pure (g ++ st)
     MAction ap n stmts -> do
       body <- local (\e -> e {envLoop = False, envLabels = Set.empty}) (checkStmts stmts)
@@ -751,6 +750,18 @@ checkRef = \case
             Just e | isAnyInt e -> pure ce
             _ -> failC "type-mismatch" (exprPos i) "an array index is an integer (TC-TYPE-38)"
         pure (CIndex ref is, t, access)
+      TPointer t | [i] <- ixs -> do
+        -- NX-TYPE-77: p[i] is (p + i * SIZEOF(T))^, the i-th element from p
+        ce <- checkExprAt (Just (TElem DINT)) i
+        step <- pointerStep t
+        let asDWord c = CExpr (cePos c) (TElem DWORD) (CConvert (TElem DWORD) c)
+            base' = CExpr p (TElem DWORD) (CRead ref)
+            offset = CExpr p (TElem DWORD) (CBinary BMul (asDWord ce) (CExpr p (TElem DWORD) (CConst (VInt DWORD step))))
+        pure (CDeref (CExpr p (TPointer t) (CBinary BAdd base' offset)) t, t, Writable)
+      TString w _ | [i] <- ixs -> do
+        -- NX-TYPE-77: a STRING's character as a BYTE, a WSTRING's as a WORD, from 0
+        ce <- checkExprAt (Just (TElem DINT)) i
+        pure (CCharAt w ref ce, TElem (if w then WORD else BYTE), access)
       _ -> failC "type-mismatch" p (typeText ty <> " is not an array")
   EDeref p (EThis _) -> do
     -- NX-POU-28: THIS^ is the instance the code runs on
@@ -761,6 +772,12 @@ checkRef = \case
   EDeref p (ESuper _) -> do
     (_, b) <- superOf p
     pure (CThis, TFB b, Writable)
+  EDeref p e -> do
+    -- NX-TYPE-75: p^ is what p points at
+    ce <- checkExprAt Nothing e
+    case ceType ce of
+      TPointer t -> pure (CDeref ce t, t, Writable)
+      t -> failC "type-mismatch" p ("^ follows a pointer; this is a " <> typeText t)
   EGlobalScope p n -> do
     -- NX-OP-88, NX-VAR-34: .name is the global, whatever a local is called
     globals <- asks envGlobals
@@ -869,6 +886,14 @@ propertyAccess accessor e = do
           Just (ref, if virtual then Virtual (accessor n) else Static (key t) (accessor n), viType v, key n)
         _ -> Nothing
 
+-- | The size of a pointer's base type: the step of @p[i]@.
+pointerStep :: Type -> C Integer
+pointerStep t = do
+  varsOf <- asks envVarsOf
+  std <- asks envStd
+  let membersOf n = [(viKey v, viType v) | v <- maybe (M.findWithDefault [] (key n) varsOf) pdVars (M.lookup (key n) std), isNothing (viAt v)]
+  pure (sizeInBytes (Layout membersOf) t)
+
 fbVars :: Text -> C [VarInfo]
 fbVars fb = do
   std <- asks envStd
@@ -964,11 +989,22 @@ coerceLit t (ce, f) = case (f, baseElem t) of
 assignable :: Type -> CExpr -> C CExpr
 assignable t ce
   | sameType t (ceType ce) = pure ce
+  | Just ce' <- pointerAssignable t ce = pure ce'
   | otherwise = do
       pol <- asks envPol
       case (baseElem (ceType ce), baseElem t) of
         (Just from, Just to) | implicitAllowed (pImplicitConversions pol) from to -> pure (CExpr (cePos ce) t (CConvert t ce))
         _ -> failC "type-mismatch" (cePos ce) ("a value of type " <> typeText (ceType ce) <> " where " <> typeText t <> " is expected; convert it explicitly (TC-CONV-1, TC-CONV-3)")
+
+-- | NX-TYPE-75, NX-TYPE-78: an address is a DWORD: any pointer, or a
+-- DWORD, may be stored in a pointer, and a pointer in a DWORD.
+pointerAssignable :: Type -> CExpr -> Maybe CExpr
+pointerAssignable t ce = case (t, ceType ce) of
+  (TPointer _, TPointer _) -> Just ce {ceType = t}
+  (TPointer _, TElem e) | e `elem` [DWORD, UDINT] -> Just ce {ceType = t}
+  (TElem DWORD, TPointer _) -> Just ce {ceType = t}
+  (TElem e, TPointer _) | isInt e, intBits e >= 32 -> Just (CExpr (cePos ce) t (CConvert t ce {ceType = TElem DWORD}))
+  _ -> Nothing
 
 -- | Implicit widening conversions of the policy's alternatives.
 implicitAllowed :: ImplicitConversions -> Elem -> Elem -> Bool
@@ -1133,13 +1169,34 @@ binaryExpr expected p o a b = do
       Just t -> (,) <$> adapt t ta <*> adapt t tb
       Nothing -> (,) <$> settle ta <*> settle tb
     (False, False) -> pure (fst ta, fst tb)
-  (ca', cb') <- widen pol ca cb
-  case binaryType pol o (ceType ca') (ceType cb') of
-    Right t -> fixed p t (CBinary o ca' cb')
-    Left msg
-      | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
-      | otherwise -> failC "type-mismatch" p (msg <> " (TC-CONV-1: operands of one type)")
+  case pointerOperation o ca cb of
+    Just r -> pure (r, Fixed)
+    Nothing -> plain pol ca cb
   where
+    plain pol ca cb = do
+      (ca', cb') <- widen pol ca cb
+      case binaryType pol o (ceType ca') (ceType cb') of
+        Right t -> fixed p t (CBinary o ca' cb')
+        Left msg
+          | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
+          | otherwise -> failC "type-mismatch" p (msg <> " (TC-CONV-1: operands of one type)")
+    -- NX-TYPE-77: an address plus or minus a number of bytes; addresses
+    -- compared or subtracted as the DWORDs they are
+    pointerOperation op ca cb = case (ceType ca, ceType cb) of
+      (TPointer t, tb) | op `elem` [BAdd, BSub], isIntType tb -> Just (CExpr p (TPointer t) (CBinary op (word ca) (word cb)))
+      (TPointer _, TPointer _) | op == BSub -> Just (CExpr p (TElem DWORD) (CBinary op (word ca) (word cb)))
+      (TPointer _, tb) | comparison op, isIntType tb || isPointer tb -> Just (CExpr p (TElem BOOL) (CBinary op (word ca) (word cb)))
+      (ta, TPointer _) | comparison op, isIntType ta -> Just (CExpr p (TElem BOOL) (CBinary op (word ca) (word cb)))
+      _ -> Nothing
+    comparison op = op `elem` [BEq, BNe, BLt, BGt, BLe, BGe]
+    isIntType t = maybe False isInt (baseElem t)
+    isPointer = \case
+      TPointer _ -> True
+      _ -> False
+    word c = case ceType c of
+      TPointer _ -> c {ceType = TElem DWORD}
+      TElem DWORD -> c
+      _ -> CExpr (cePos c) (TElem DWORD) (CConvert (TElem DWORD) c)
     orElse x y = maybe y Just x
     numericTarget t = case baseElem t of
       Just e | isAnyNum e || isBitString e -> Just t
@@ -1192,11 +1249,31 @@ typeHint depth e
 -- a user FUNCTION.
 callExpr :: Maybe Type -> Pos -> Text -> [Arg] -> C TExpr
 callExpr expected p f args
+  | key f == "ADR" = do
+      pol <- asks envPol
+      unless (pExtensions pol == ExtensionsCodesys) (failC "undeclared-function" p "ADR is a CODESYS operator (policy extensions = codesys)")
+      case args of
+        -- NX-TYPE-75, NX-OP-68: the address of a variable
+        [ArgPositional x] -> do
+          (ref, t, _) <- checkRef x
+          fixed p (TPointer t) (CAddressOf ref)
+        _ -> failC "too-many-arguments" p "ADR takes one variable"
   | key f == "SIZEOF" = case args of
       -- TC-STR-12: the declared size in bytes, an integer of the context's type
       [ArgPositional x] -> do
-        (ce, _) <- infer Nothing x
-        let n = sizeOf (ceType ce)
+        pol <- asks envPol
+        t <- case x of
+          -- CODESYS also takes a type's name (NX-OP-34)
+          EVar vp n | pExtensions pol == ExtensionsCodesys -> do
+            r <- lookupName vp n
+            case r of
+              Just (_, ty, _) -> pure ty
+              Nothing -> resolveType (TSName vp n)
+          _ -> ceType . fst <$> infer Nothing x
+        n <- case pExtensions pol of
+          ExtensionsNone -> pure (sizeOf t)
+          -- NX-OP-34: as the pointers see the bytes (Stref.IEC.Memory)
+          ExtensionsCodesys -> pointerStep t
         pure (CExpr p (TElem DINT) (CConst (VInt DINT n)), FlexInt n)
       _ -> failC "too-many-arguments" p "SIZEOF takes one variable"
   | key f == "TRUNC" = do
@@ -1223,6 +1300,7 @@ sizeOf = \case
   TSubrange e _ _ -> sizeOf (TElem e)
   TFB _ -> 0
   TProgram _ -> 0
+  TPointer _ -> 4 -- NX-TYPE-78: an address is a DWORD
 
 callStandard :: Maybe Type -> Pos -> Text -> [Arg] -> C TExpr
 callStandard expected p f args = do

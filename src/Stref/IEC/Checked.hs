@@ -105,6 +105,7 @@ data CNode
   | CConvert Type CExpr -- ^ a conversion to the node's type from the operand's
   | CStandard Text [CExpr] -- ^ a standard function by key, its arguments in order
   | CCall Text [(Text, CExpr)] [(Text, CRef)] -- ^ a user function: inputs by parameter key, in-outs by reference
+  | CAddressOf CRef -- ^ CODESYS: @ADR(x)@ (NX-TYPE-75, NX-OP-68)
   | CMethod Dispatch CRef [(Text, CExpr)] [(Text, CRef)] [(Text, CRef, Type)]
   -- ^ a method, accessor or action of an instance: its inputs, in-outs and
   -- @=>@ outputs; the value is the method's result
@@ -122,6 +123,8 @@ data CRef
   | CIndex CRef [CExpr] -- ^ an array element
   | CLocated Location Type -- ^ a direct address read as a type
   | CThis -- ^ the instance a function block's body, method or action runs on (NX-POU-28)
+  | CDeref CExpr Type -- ^ CODESYS: what a pointer points at, of the pointer's base type (NX-TYPE-75)
+  | CCharAt Bool CRef CExpr -- ^ CODESYS: @s[i]@ (True: a WSTRING), the code of a STRING's (WSTRING's) character i, from 0 (NX-TYPE-77)
   | CInstance Text -- ^ a variable of that instance, named inside one of its methods (NX-POU-27)
 
 data FBCall = FBCall

@@ -17,6 +17,7 @@ import Control.Monad (forM, forM_, unless, when)
 import Control.Monad.Except (ExceptT, catchError, runExceptT, throwError)
 import Control.Monad.Reader (ReaderT, asks, local, runReaderT)
 import Control.Monad.State.Strict (State, gets, modify', runState)
+import Data.Char (chr, ord)
 import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.))
 import Data.List (find)
 import qualified Data.Map.Strict as M
@@ -24,9 +25,11 @@ import Data.Maybe (fromMaybe)
 import qualified Data.Sequence as Seq
 import Data.Text (Text)
 import qualified Data.Text as T
+import Numeric (showHex)
 import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert)
+import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, sizeInBytes)
 import Stref.IEC.Operators (binary, unary)
 import Stref.IEC.Standard (standard)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..))
@@ -409,6 +412,10 @@ eval ce = case ceNode ce of
     orFault (cePos ce) (standard pol f (map ceType args) vs)
   CCall f ins inouts -> callFunction (cePos ce) f ins inouts
   CMethod d r ins inouts outs -> callMethod (cePos ce) d r ins inouts outs
+  CAddressOf r -> do
+    path <- refPath (cePos ce) r
+    a <- addressOf path
+    maybe (fault (cePos ce) (Fault "null-pointer" "this variable has no address")) (pure . VInt DWORD) a
 
 -- | A method, accessor or action called on an instance (NX-POU-25..43):
 -- which one runs is the instance's own type's (or the nearest base's) for a
@@ -492,6 +499,21 @@ refPath p = \case
         pure (extend base (StepIndex checked))
       _ -> pure (extend base (StepIndex ns))
   CLocated l _ -> pure (RefPath (RootLocated (locText l)) [])
+  CDeref e t -> do
+    -- NX-TYPE-75: the variable of the pointer's base type at its address
+    v <- eval e
+    case v of
+      VInt _ 0 -> fault p (Fault "null-pointer" "the pointer is 0: it points at no variable")
+      VInt _ a -> do
+        found <- variableAt a t
+        maybe (fault p (Fault "null-pointer" ("no variable of type " <> typeText t <> " lies at the address 16#" <> T.pack (showHex a "")))) pure found
+      _ -> fault p (Fault "null-pointer" "not an address")
+  CCharAt w r i -> do
+    base <- refPath p r
+    iv <- eval i
+    case iv of
+      VInt _ n -> pure (extend base (StepChar w n))
+      _ -> pure base
   CThis -> asks cxThis
   CInstance k -> do
     this <- asks cxThis
@@ -566,6 +588,7 @@ walk (s : rest) v = case (s, v) of
   (StepField f, VStruct fs) -> M.lookup f fs >>= walk rest
   (StepField f, VInstance _ fs) -> M.lookup f fs >>= walk rest
   (StepIndex is, VArray bs xs) -> Seq.lookup (linearIndex bs is) xs >>= walk rest
+  (StepChar w i, VString str) -> walk rest (VInt (if w then WORD else BYTE) (if i >= 0 && i < toInteger (T.length str) then toInteger (ord (T.index str (fromInteger i))) else 0))
   _ -> Nothing
 
 putPath :: RefPath -> Value -> Eval ()
@@ -578,11 +601,54 @@ putPath (RefPath r steps) v = modify' $ \m -> case rootValue r m of
       (StepField f, VStruct fs) -> VStruct (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
       (StepField f, VInstance n fs) -> VInstance n (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
       (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+      -- NX-TYPE-77: writing a character inside the string; beyond its end
+      -- nothing changes
+      (StepChar _ i, VString str) | i >= 0 && i < toInteger (T.length str), VInt _ c <- v ->
+        let (before, after) = T.splitAt (fromInteger i) str
+         in VString (before <> T.singleton (chr (fromInteger c)) <> T.drop 1 after)
       _ -> old
 
 -- | TC-TYPE-43: the rightmost index varies fastest.
 linearIndex :: [(Integer, Integer)] -> [Integer] -> Int
 linearIndex bs is = fromInteger (foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1) + (i - lo)) 0 (zip bs is))
+
+------------------------------------------------------------------------------
+-- Addresses (CODESYS pointers, Stref.IEC.Memory)
+
+layoutOf :: Program -> Layout
+layoutOf prog = Layout (\n -> maybe [] (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (lookupPou prog n))
+
+-- | The roots of memory with their types and addresses: globals, program
+-- instances, the frames of the calls under way.
+roots :: Eval [(Root, Type, Integer)]
+roots = do
+  prog <- asks cxProgram
+  frames <- gets mFrames
+  let ly = layoutOf prog
+      globals = placeAll ly globalsBase [(RootGlobal (viKey v), viType v) | v <- prGlobals prog, viAt v == Nothing]
+      programs = placeAll ly programsBase [(RootProgram (key inst), TProgram t) | (inst, t) <- prInstances prog]
+      frameRoots = [(RootFrame d, TProgram n, frameBase d) | (d, VInstance n _) <- M.toList frames]
+  pure (globals ++ programs ++ frameRoots)
+
+addressOf :: RefPath -> Eval (Maybe Integer)
+addressOf (RefPath r steps) = do
+  prog <- asks cxProgram
+  rs <- roots
+  pure $ do
+    (_, t, base) <- find (\(r', _, _) -> r' == r) rs
+    (off, _) <- offsetOf (layoutOf prog) t steps
+    pure (base + off)
+
+-- | The variable of a type at an address: the root whose bytes hold it,
+-- then the path inside.
+variableAt :: Integer -> Type -> Eval (Maybe RefPath)
+variableAt a t = do
+  prog <- asks cxProgram
+  rs <- roots
+  let ly = layoutOf prog
+  pure $ do
+    (r, rt, base) <- find (\(_, rt, base) -> a >= base && a < base + max 1 (sizeInBytes ly rt)) rs
+    RefPath r <$> locate ly rt (a - base) t
 
 ------------------------------------------------------------------------------
 -- Located variables (TC-ADDR-*): bytes of the areas I (= X), Q (= Y), M (=
@@ -679,6 +745,7 @@ readVariablePath prog m = \case
       StepIndex _ : more -> case t of
         TArray _ et -> typeAt et more
         _ -> Nothing
+      StepChar w _ : more -> typeAt (TElem (if w then WORD else BYTE)) more
 
 -- | Write a variable at a path before a cycle (the corpus's @set@, §4.1).
 writeVariablePath :: Program -> Machine -> [Step] -> Value -> Maybe Machine
@@ -705,6 +772,11 @@ writeVariablePath prog m steps v = case steps of
       (StepField f, VStruct fs) -> VStruct (M.adjust (update rest) f fs)
       (StepField f, VInstance n fs) -> VInstance n (M.adjust (update rest) f fs)
       (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+      -- NX-TYPE-77: writing a character inside the string; beyond its end
+      -- nothing changes
+      (StepChar _ i, VString str) | i >= 0 && i < toInteger (T.length str), VInt _ c <- v ->
+        let (before, after) = T.splitAt (fromInteger i) str
+         in VString (before <> T.singleton (chr (fromInteger c)) <> T.drop 1 after)
       _ -> old
 
 readLocatedVar :: Location -> Type -> Machine -> Value

@@ -449,7 +449,8 @@ typeDecl pol = do
   symbol pol ":"
   spec <- typeSpec pol
   i <- optional (symbol pol ":=" *> initValue pol)
-  symbol pol ";"
+  -- CODESYS writes END_STRUCT END_TYPE without the ';' (NX-TYPE-51)
+  if codesys pol then void (optional (symbol pol ";")) else symbol pol ";"
   pure (TypeDecl p n spec i)
 
 typeSpec :: Policies -> Parser TypeSpec
@@ -883,7 +884,11 @@ primary :: Policies -> Parser Expr
 primary pol = do
   p <- pos
   choice
-    [ symbol pol "(" *> expr pol <* symbol pol ")"
+    [ do
+        e <- symbol pol "(" *> expr pol <* symbol pol ")"
+        -- NX-TYPE-77: (p + 7)^
+        deref <- if codesys pol then optional (lookAhead (symbol pol "^")) else pure Nothing
+        maybe (pure e) (const (postfix pol e)) deref
     , ELit p <$> number pol
     , ELit p . LBool <$> (True <$ kw pol "TRUE" <|> False <$ kw pol "FALSE")
     , ELit p . LString <$> stringLit pol '\''
@@ -911,10 +916,16 @@ variable pol = do
       , extensionP pol (EGlobalScope p <$> (try (symbol pol "." *> lookAhead (satisfy isAsciiLetterOrUnderscore)) *> name pol))
       , EVar p <$> name pol
       ]
-  postfix base
+  postfix pol base
   where
     isAsciiLetterOrUnderscore c = isAsciiUpper c || isAsciiLower c || c == '_'
-    postfix acc = do
+
+-- | Fields, indices, dereferences and calls after a variable (or after a
+-- parenthesised pointer expression: @(p + 2)^@).
+postfix :: Policies -> Expr -> Parser Expr
+postfix pol = go
+  where
+    go acc = do
       p <- pos
       m <-
         optional $
@@ -926,7 +937,7 @@ variable pol = do
             ]
       case m of
         Nothing -> pure acc
-        Just (Left ix) -> postfix (EIndex p acc ix)
-        Just (Right (Left f)) -> postfix (EField p acc f)
-        Just (Right (Right Nothing)) -> postfix (EDeref p acc)
-        Just (Right (Right (Just args))) -> postfix (EInvoke p acc args)
+        Just (Left ix) -> go (EIndex p acc ix)
+        Just (Right (Left f)) -> go (EField p acc f)
+        Just (Right (Right Nothing)) -> go (EDeref p acc)
+        Just (Right (Right (Just args))) -> go (EInvoke p acc args)

@@ -21,6 +21,7 @@ module Stref.IEC.Syntax
   , Location (..)
   , Pou (..)
   , PouKind (..)
+  , pouKindKeyword
   , Member (..)
   , Method (..)
   , Property (..)
@@ -148,6 +149,15 @@ data Pou = Pou
   , pouMembers :: [Member] -- ^ CODESYS: methods, properties and actions, written inside the POU
   }
   deriving (Eq, Show)
+
+-- | The keyword that opens a POU of the kind.
+pouKindKeyword :: PouKind -> Text
+pouKindKeyword = \case
+  KFunction -> "FUNCTION"
+  KFunctionBlock -> "FUNCTION_BLOCK"
+  KProgram -> "PROGRAM"
+  KMethod -> "METHOD"
+  KAction -> "ACTION"
 
 -- | What CODESYS keeps as objects below a POU, in their textual form
 -- (docs/nexto.md): methods (NX-POU-25), properties (NX-POU-37) and

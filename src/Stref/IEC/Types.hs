@@ -62,6 +62,7 @@ data Type
   | TSubrange Elem Integer Integer -- ^ base type and bounds (TC-TYPE-32)
   | TFB Text -- ^ an instance of the named function block (standard or user)
   | TProgram Text -- ^ a program instance
+  | TPointer Type -- ^ CODESYS: @POINTER TO T@; its value is an address, a DWORD (NX-TYPE-74, NX-TYPE-78)
   deriving (Eq, Ord, Show)
 
 allElems :: [Elem]
@@ -146,6 +147,7 @@ typeText = \case
   TSubrange e a b -> elemName e <> " (" <> T.pack (show a) <> ".." <> T.pack (show b) <> ")"
   TFB n -> n
   TProgram n -> n
+  TPointer t -> "POINTER TO " <> typeText t
 
 -- | The elementary type under a subrange, or of an elementary type.
 baseElem :: Type -> Maybe Elem

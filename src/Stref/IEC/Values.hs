@@ -62,7 +62,10 @@ data Root
   | RootLocated !Text -- ^ a direct address
   deriving (Eq, Ord, Show)
 
-data Step = StepField !Text | StepIndex ![Integer]
+data Step
+  = StepField !Text
+  | StepIndex ![Integer]
+  | StepChar !Bool !Integer -- ^ a character of a STRING (False) or WSTRING (True), from 0, as its code
   deriving (Eq, Ord, Show)
 
 -- | Tab.3.8: zeros, FALSE, T#0s, D#1970-01-01, TOD#00:00:00, the empty
@@ -90,6 +93,7 @@ defaultValue = \case
   TSubrange e lo _ -> VInt e lo
   TFB n -> VInstance n M.empty
   TProgram n -> VInstance n M.empty
+  TPointer _ -> VInt DWORD 0 -- the null pointer
 
 -- | Is the integer within the type's range?
 fitInt :: Elem -> Integer -> Bool
