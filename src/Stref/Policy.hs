@@ -36,6 +36,7 @@ module Stref.Policy
   , StandardLibrary (..)
   , Extensions (..)
   , ReservedNames (..)
+  , Enumerations (..)
   , Model (..)
   , mastertoolXE
   , tecomat
@@ -183,6 +184,12 @@ data Extensions = ExtensionsNone | ExtensionsCodesys
 data ReservedNames = ReservedIec | ReservedCodesys
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | What an enumerated value is: a name of its type (IEC: TC-TYPE-21), or
+-- a number of the type's base type, INT unless stated (CODESYS:
+-- NX-TYPE-57..67), which mixes with numbers.
+data Enumerations = EnumSymbolic | EnumInteger
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 -- | The controller a dialect runs on: MasterTool's (operand tables, CHF
 -- parameters, per-call initialisation, the diagnostic band) or IEC
 -- 61131-3's (program instances, tasks, a clock). Part of the preset, not a
@@ -230,6 +237,7 @@ data Policies = Policies
   , pStandardLibrary :: !StandardLibrary
   , pExtensions :: !Extensions
   , pReservedNames :: !ReservedNames
+  , pEnumerations :: !Enumerations
   }
   deriving (Eq, Show)
 
@@ -273,6 +281,7 @@ mastertoolXE =
     , pStandardLibrary = LibraryIec
     , pExtensions = ExtensionsNone
     , pReservedNames = ReservedIec
+    , pEnumerations = EnumSymbolic
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -313,6 +322,7 @@ tecomat =
     , pStandardLibrary = LibraryIec -- TC-FB-2..8
     , pExtensions = ExtensionsNone
     , pReservedNames = ReservedIec -- TC-LEX-3, TC-LEX-4
+    , pEnumerations = EnumSymbolic -- TC-TYPE-21, TC-TYPE-36
     }
 
 -- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
@@ -352,6 +362,7 @@ nexto =
     , pStandardLibrary = LibraryCodesys -- NX-FB-1, NX-FB-4, NX-FB-11
     , pExtensions = ExtensionsCodesys
     , pReservedNames = ReservedCodesys -- NX-LEX-12, NX-LEX-13
+    , pEnumerations = EnumInteger -- NX-TYPE-60..66
     }
 
 -- | Named presets: each dialect is an entry here, not a fork of the code.
@@ -432,6 +443,7 @@ policyTable =
   , enumPolicy "standard-library" ["iec", "codesys"] pStandardLibrary (\v p -> p {pStandardLibrary = v})
   , enumPolicy "extensions" ["none", "codesys"] pExtensions (\v p -> p {pExtensions = v})
   , enumPolicy "reserved-names" ["iec", "codesys"] pReservedNames (\v p -> p {pReservedNames = v})
+  , enumPolicy "enumerations" ["symbolic", "integer"] pEnumerations (\v p -> p {pEnumerations = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

@@ -58,6 +58,9 @@ data Env = Env
   , envSelf :: Maybe Text -- ^ the FB or program whose instance the code runs on (its body, methods, actions)
   , envInstanceVars :: M.Map Text VarInfo -- ^ in a method: the variables of its instance (NX-POU-27, NX-POU-29)
   , envMembersOf :: M.Map Text (M.Map Text (PouKind, [VarInfo])) -- ^ the methods, accessors and actions every POU declares (lazy)
+  , envGvls :: M.Map Text (M.Map Text VarInfo) -- ^ CODESYS: the named global lists, for @GVL.x@ (NX-VAR-35)
+  , envQualifiedOnly :: Set.Set Text -- ^ globals of a qualified_only list (NX-PRAGMA-10)
+  , envAmbiguous :: Set.Set Text -- ^ globals that several lists declare (NX-LEX-9)
   , envTypeDepth :: Int
   }
 
@@ -65,6 +68,11 @@ type C = ReaderT Env (Except VerificationError)
 
 failC :: Text -> Pos -> Text -> C a
 failC k p m = throwError (VerificationError k p m)
+
+-- | NX-ERR-1, NX-ERR-2: the implicit check functions, called where the
+-- manual says when the program declares them.
+checkFunctionNames :: [Text]
+checkFunctionNames = ["CHECKBOUNDS", "CHECKDIVINT", "CHECKDIVDINT", "CHECKDIVLINT", "CHECKDIVREAL", "CHECKDIVLREAL", "CHECKRANGESIGNED", "CHECKRANGEUNSIGNED", "CHECKPOINTER"]
 
 -- | Standard function names (Tab.3.12-3.19), reserved for user names
 -- (TC-LEX-3).
@@ -128,6 +136,9 @@ checkUnit pol choice (Unit decls) = runExcept $ do
           , envSelf = Nothing
           , envInstanceVars = M.empty
           , envMembersOf = M.empty
+          , envGvls = M.empty
+          , envQualifiedOnly = Set.empty
+          , envAmbiguous = Set.empty
           , envTypeDepth = 0
           }
   -- global CONSTANTs, which declarations may use (array bounds, initial
@@ -144,9 +155,21 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   -- report the first error in a POU's declarations
   forM_ pous $ \p -> either throwError (const (pure ())) (varsOfE M.! key (pouName p))
   forM_ pous $ \p -> either throwError (const (pure ())) (membersOfE M.! key (pouName p))
-  globals <- runReaderT (concat <$> mapM (blockVars Nothing) globalBlocks) env0
-  checkDuplicates [(viPos v, viName v) | v <- globals]
-  let env1 = env0 {envGlobals = M.fromList [(viKey v, v) | v <- globals]}
+  perBlock <- forM globalBlocks $ \b -> do
+    vs <- runReaderT (blockVars Nothing b) env0
+    checkDuplicates [(viPos v, viName v) | v <- vs]
+    pure (b, vs)
+  gvls <- globalLists perBlock
+  let globals = [v | (_, _, vs) <- gvls, v <- vs]
+      unqualified = M.fromList [(key (viName v), v) | (_, False, vs) <- gvls, v <- vs, not (clashes v)]
+      clashes v = viKey v /= key (viName v)
+      env1 =
+        env0
+          { envGlobals = unqualified
+          , envGvls = M.fromList [(key n, M.fromList [(key (viName v), v) | v <- vs]) | (Just n, _, vs) <- gvls]
+          , envQualifiedOnly = Set.fromList [key (viName v) | (_, True, vs) <- gvls, v <- vs]
+          , envAmbiguous = Set.fromList [key (viName v) | v <- globals, clashes v]
+          }
   defs <- forM pous $ \p -> runReaderT (checkPou p) env1 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)], envSelf = selfOf p}
   checkRecursion False pous globalBlocks
   instances <- case choice of
@@ -175,6 +198,8 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prGlobals = globals
       , prInstances = instances
       , prTaskInterval = interval
+      , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
+      , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where
     selfOf p = if pouKind p `elem` [KFunctionBlock, KProgram] then Just (key (pouName p)) else Nothing
@@ -239,6 +264,24 @@ pouVariables p = do
   forM_ vs $ \v -> when (viKey v `elem` map viKey inherited) $
     failC "redeclared-inherited" (viPos v) ("'" <> viName v <> "' is a variable of the base function block already; a derived FB cannot declare it again (NX-POU-45)")
   pure (inherited ++ vs ++ result)
+
+-- | CODESYS: each top-level VAR_GLOBAL block is a global list (GVL),
+-- named by the attribute gvl_name (docs/nexto.md), qualified_only or not.
+-- A variable declared in several lists is stored under LIST.NAME and
+-- reached only through its list's name (NX-LEX-8, NX-LEX-9); in lists
+-- without a name it is declared twice.
+globalLists :: [(VarBlock, [VarInfo])] -> Except VerificationError [(Maybe Text, Bool, [VarInfo])]
+globalLists blocks = do
+  let named = [(attributeValue "gvl_name" (vbAttributes b), isJust (attributeValue "qualified_only" (vbAttributes b)), vs) | (b, vs) <- blocks]
+      counts = M.fromListWith (+) [(viKey v, 1 :: Int) | (_, _, vs) <- named, v <- vs]
+      listsOf = M.fromListWith (++) [(viKey v, [n]) | (n, _, vs) <- named, v <- vs]
+  forM named $ \(n, qualified, vs) -> do
+    vs' <- forM vs $ \v -> case M.findWithDefault 1 (viKey v) counts of
+      1 -> pure v
+      _
+        | Just gvl <- n, all isJust (M.findWithDefault [] (viKey v) listsOf) -> pure v {viKey = key gvl <> "." <> viKey v}
+        | otherwise -> throwError (VerificationError "duplicate-identifier" (viPos v) ("'" <> viName v <> "' is declared by several global lists, one of which has no name to tell them apart"))
+    pure (n, qualified, vs')
 
 -- | NX-POU-44, NX-POU-47: a function block extends a declared function
 -- block, and no chain of EXTENDS comes back to where it started.
@@ -359,6 +402,7 @@ resolveDefault spec = do
         Just td -> local (\e -> e {envTypeDepth = depth + 1}) $ do
           base <- case ty of
             TEnum {} -> pure (defaultValue ty) -- the value carries the type's name
+            TNumEnum {} -> pure (defaultValue ty)
             _ -> resolveDefault (tdSpec td)
           maybe (pure base) (initialValue ty base) (tdInit td)
         Nothing -> case ty of
@@ -407,6 +451,7 @@ resolveType = \case
           t <- local (\e -> e {envTypeDepth = depth + 1}) (resolveType (tdSpec td))
           pure (case t of
             TEnum "" vs -> TEnum (tdName td) vs
+            TNumEnum "" e vs -> TNumEnum (tdName td) e vs
             TStruct "" fs -> TStruct (tdName td) fs
             _ -> t)
         Nothing
@@ -434,7 +479,27 @@ resolveType = \case
       t <- resolveType (vdType d)
       pure [(n, t) | (_, n) <- vdNames d]
     pure (TStruct "" (concat fs))
-  TSEnum _ vs -> pure (TEnum "" (map snd vs))
+  TSEnum p items base -> do
+    pol <- asks envPol
+    case pEnumerations pol of
+      EnumSymbolic -> do
+        forM_ [e | (_, _, Just e) <- items] $ \e -> failC "type-mismatch" (exprPos e) "an enumerated value has no number under enumerations = symbolic (TC-TYPE-21)"
+        when (isJust base) (failC "type-mismatch" p "an enumeration has no base type under enumerations = symbolic")
+        pure (TEnum "" [n | (_, n, _) <- items])
+      EnumInteger -> do
+        -- NX-TYPE-62, NX-TYPE-66: numbered from 0, or on from a value given;
+        -- INT unless a base type is given; every value fits it (NX-TYPE-67)
+        e <- case base of
+          Nothing -> pure INT
+          Just b -> case parseElemName b of
+            Just e | isInt e -> pure e
+            _ -> failC "type-mismatch" p ("the base type of an enumeration is an integer type, not " <> b)
+        let go _ [] = pure []
+            go next ((vp, n, v) : rest) = do
+              x <- maybe (pure next) constInt v
+              unless (fitInt e x) (failC "value-out-of-limits" vp ("the value " <> T.pack (show x) <> " of " <> n <> " lies outside " <> elemName e <> " (NX-TYPE-67)"))
+              ((n, x) :) <$> go (x + 1) rest
+        TNumEnum "" e <$> go 0 items
   TSPointer _ t -> TPointer <$> resolveType t
   TSSubrange p n (a, b) -> do
     base <- resolveType (TSName p n)
@@ -542,6 +607,7 @@ checkPou p = do
       , pdBody = Statements body
       , pdEndPos = pouEnd p
       , pdBase = key . snd <$> pouExtends p
+      , pdChecked = key (pouName p) `notElem` checkFunctionNames && isNothing (attributeValue "no_check" (pouAttributes p)) -- NX-PRAGMA-8
       , pdMethods = members
       }
 
@@ -570,6 +636,7 @@ checkMembers p = do
                   , pdBody = Statements body
                   , pdEndPos = end'
                   , pdBase = Nothing
+                  , pdChecked = True
                   , pdMethods = M.empty
                   }
               )
@@ -583,7 +650,7 @@ checkMembers p = do
       pure (g ++ st)
     MAction ap n stmts -> do
       body <- local (\e -> e {envLoop = False, envLabels = Set.empty}) (checkStmts stmts)
-      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing M.empty)]
+      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing True M.empty)]
   pure (M.fromList (concat defs))
 
 checkStmts :: [Stmt] -> C [CStmt]
@@ -615,6 +682,7 @@ checkStmt = \case
       TElem e | isAnyInt e -> pure ()
       TSubrange {} -> pure ()
       TEnum {} -> pure ()
+      TNumEnum {} -> pure ()
       t -> failC "type-mismatch" (exprPos sel) ("a CASE selector is an integer or an enumeration, not " <> typeText t <> " (TC-STMT-11, TC-STMT-16)")
     arms' <- forM arms $ \(labels, b) -> do
       ranges <- forM labels $ \case
@@ -721,24 +789,18 @@ checkRef = \case
     r <- lookupName p n
     case r of
       Just x -> pure x
-      Nothing -> failC "undeclared-variable" p ("the variable " <> n <> " is not declared")
+      Nothing -> listedGlobal p n >> failC "undeclared-variable" p ("the variable " <> n <> " is not declared")
   ELocated _ loc -> pure (CLocated loc (locationType loc), locationType loc, Writable)
-  EField p base f -> do
-    (ref, ty, access) <- checkRef base
-    case ty of
-      TStruct _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
-        Just t -> pure (CField ref (key f), t, access)
-        Nothing -> failC "undeclared-variable" p ("the structure " <> typeText ty <> " has no field " <> f)
-      TFB fb -> do
-        d <- fbVars fb
-        case find ((== key f) . viKey) d of
-          Nothing -> failC "undeclared-variable" p ("the function block " <> fb <> " has no variable " <> f)
-          Just v | own base -> pure (CField ref (key f), viType v, Writable) -- NX-POU-28: THIS^.x
-          Just v -> case viSection v of
-            SecInput -> pure (CField ref (key f), viType v, access) -- TC-POU-25
-            SecOutput -> pure (CField ref (key f), viType v, ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)"))
-            _ -> pure (CField ref (key f), viType v, Hidden ("the variable " <> f <> " is internal to the function block " <> fb <> " (TC-POU-23)"))
-      _ -> failC "type-mismatch" p (typeText ty <> " has no fields")
+  EField p (EVar gp g) f -> do
+    -- NX-OP-89, NX-VAR-35: a global list's name before its variable
+    isVar <- isJust <$> lookupName gp g
+    gvl <- asks (M.lookup (key g) . envGvls)
+    case gvl of
+      Just vs | not isVar -> case M.lookup (key f) vs of
+        Just v -> pure (maybe (CGlobal (viKey v)) (\l -> CLocated l (viType v)) (viAt v), viType v, if viConstant v then ReadOnly ("the CONSTANT " <> viName v <> " cannot be written") else Writable)
+        Nothing -> failC "undeclared-variable" p ("the global list " <> g <> " has no variable " <> f)
+      _ -> fieldOf p (EVar gp g) f
+  EField p base f -> fieldOf p base f
   EIndex p base ixs -> do
     (ref, ty, access) <- checkRef base
     case ty of
@@ -785,6 +847,35 @@ checkRef = \case
       Just g -> pure (maybe (CGlobal (key n)) (\l -> CLocated l (viType g)) (viAt g), viType g, if viConstant g then ReadOnly ("the CONSTANT " <> viName g <> " cannot be written") else Writable)
       Nothing -> failC "undeclared-variable" p ("there is no global variable " <> n)
   e -> failC "not-a-variable" (exprPos e) "a variable was expected here"
+
+-- | A name no scope declares may still be a global that must be written
+-- with its list's name: say so (NX-PRAGMA-10, NX-LEX-9).
+listedGlobal :: Pos -> Text -> C ()
+listedGlobal p n = do
+  qualifiedOnly <- asks (Set.member (key n) . envQualifiedOnly)
+  ambiguous <- asks (Set.member (key n) . envAmbiguous)
+  when qualifiedOnly $ failC "qualified-only" p ("the global list of " <> n <> " is qualified_only: write its name before the variable, GVL." <> n <> " (NX-PRAGMA-10)")
+  when ambiguous $ failC "ambiguous-name" p ("several global lists declare " <> n <> "; write the list's name before it (NX-LEX-9)")
+
+-- | A field of a structure or a variable of an FB instance, with the
+-- access rules (TC-POU-23..25).
+fieldOf :: Pos -> Expr -> Text -> C (CRef, Type, Access)
+fieldOf p base f = do
+  (ref, ty, access) <- checkRef base
+  case ty of
+    TStruct _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
+      Just t -> pure (CField ref (key f), t, access)
+      Nothing -> failC "undeclared-variable" p ("the structure " <> typeText ty <> " has no field " <> f)
+    TFB fb -> do
+      d <- fbVars fb
+      case find ((== key f) . viKey) d of
+        Nothing -> failC "undeclared-variable" p ("the function block " <> fb <> " has no variable " <> f)
+        Just v | own base -> pure (CField ref (key f), viType v, Writable) -- NX-POU-28: THIS^.x
+        Just v -> case viSection v of
+          SecInput -> pure (CField ref (key f), viType v, access) -- TC-POU-25
+          SecOutput -> pure (CField ref (key f), viType v, ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)"))
+          _ -> pure (CField ref (key f), viType v, Hidden ("the variable " <> f <> " is internal to the function block " <> fb <> " (TC-POU-23)"))
+    _ -> failC "type-mismatch" p (typeText ty <> " has no fields")
   where
     own = \case
       EDeref _ (EThis _) -> True
@@ -916,7 +1007,7 @@ lookupName _ n = do
       asGlobalNamed v = case M.lookup (viKey v) globals of
         Just g -> Just (refOf (CGlobal (viKey g)) g, viType g, globalAccess g)
         Nothing -> Nothing
-      asGlobal g = (refOf (CGlobal k) g, viType g, globalAccess g)
+      asGlobal g = (refOf (CGlobal (viKey g)) g, viType g, globalAccess g)
       refOf r v = maybe r (\l -> CLocated l (viType v)) (viAt v)
       localAccess v
         | viSection v == SecInput = ReadOnly ("the input " <> viName v <> " is read-only inside its own POU (TC-VAR-1)")
@@ -1033,6 +1124,8 @@ infer expected = \case
     ty <- resolveType (TSName p t)
     case ty of
       TEnum _ vs | Just v' <- find ((== key v) . key) vs -> fixed p ty (CConst (VEnum (enumName ty) v'))
+      TNumEnum _ e vs | Just (_, x) <- find ((== key v) . key . fst) vs -> fixed p ty (CConst (VInt e x))
+      TNumEnum {} -> failC "undeclared-variable" p ("the enumeration " <> t <> " has no value " <> v)
       TEnum {} -> failC "undeclared-variable" p ("the enumeration " <> t <> " has no value " <> v)
       _ -> failC "type-mismatch" p (t <> " is not an enumeration")
   EVar p n -> do
@@ -1044,7 +1137,27 @@ infer expected = \case
         prop <- propertyAccess getterKey (EVar p n)
         case prop of
           Just (ref, d, ty, _) -> fixed p ty (CMethod d ref [] [] [])
-          Nothing -> enumValue p n expected
+          Nothing -> listedGlobal p n >> enumValue p n expected
+  EField p (EVar tp t) v
+    | otherwise -> do
+        -- NX-TYPE-65, NX-OP-91: an enumeration's name before its value
+        isVar <- isJust <$> lookupName tp t
+        types <- asks envTypes
+        if not isVar && M.member (key t) types
+          then do
+            ty <- resolveType (TSName tp t)
+            case ty of
+              TNumEnum {} -> infer expected (EEnum p t v)
+              TEnum {} -> infer expected (EEnum p t v)
+              _ -> fieldRead
+          else fieldRead
+    where
+      fieldRead = do
+        let e = EField p (EVar tp t) v
+        prop <- propertyAccess getterKey e
+        case prop of
+          Just (ref, d, ty, _) -> fixed p ty (CMethod d ref [] [] [])
+          Nothing -> readRef e
   e@(EField p _ _) -> do
     prop <- propertyAccess getterKey e
     case prop of
@@ -1104,16 +1217,25 @@ enumValue p n expected = do
   globals <- asks envGlobals
   named <- forM (M.elems types) (\td -> resolveType (TSName (tdPos td) (tdName td)))
   let anonymous = [viType v | v <- M.elems locals ++ M.elems globals] >>= enumsIn
-      candidates = [t | t@(TEnum _ vs) <- maybe [] enumsIn expected ++ concatMap enumsIn named ++ anonymous, key n `elem` map key vs]
+      candidates = [t | t <- maybe [] enumsIn expected ++ concatMap enumsIn named ++ anonymous, key n `elem` map key (valuesOf t)]
   case candidates of
+    (t@(TNumEnum _ e vs) : rest)
+      -- NX-TYPE-59, NX-TYPE-65: known everywhere; unqualified only where one enumeration has it
+      | all (== t) rest, Just (_, x) <- find ((== key n) . key . fst) vs -> fixed p t (CConst (VInt e x))
+      | otherwise -> failC "ambiguous-name" p ("the value " <> n <> " belongs to several enumerations; write it as Type." <> n <> " (NX-TYPE-65)")
     (t@(TEnum _ vs) : rest)
       | all (== t) rest || maybe False (`elem` enumsInM expected) (Just t) ->
           fixed p t (CConst (VEnum (enumName t) (fromMaybe n (find ((== key n) . key) vs))))
       | otherwise -> failC "ambiguous-name" p ("the value " <> n <> " belongs to several enumerations; write it as Type#" <> n)
     _ -> failC "undeclared-variable" p ("the variable " <> n <> " is not declared")
   where
+    valuesOf = \case
+      TEnum _ vs -> vs
+      TNumEnum _ _ vs -> map fst vs
+      _ -> []
     enumsIn = \case
       t@TEnum {} -> [t]
+      t@TNumEnum {} -> [t]
       TArray _ t -> enumsIn t
       TStruct _ fs -> concatMap (enumsIn . snd) fs
       _ -> []
@@ -1169,10 +1291,14 @@ binaryExpr expected p o a b = do
       Just t -> (,) <$> adapt t ta <*> adapt t tb
       Nothing -> (,) <$> settle ta <*> settle tb
     (False, False) -> pure (fst ta, fst tb)
-  case pointerOperation o ca cb of
+  case pointerOperation o (plainEnum ca) (plainEnum cb) of
     Just r -> pure (r, Fixed)
-    Nothing -> plain pol ca cb
+    Nothing -> plain pol (plainEnum ca) (plainEnum cb)
   where
+    -- NX-TYPE-60: CODESYS's enumerated values compute as their base type
+    plainEnum c = case ceType c of
+      TNumEnum _ e _ -> c {ceType = TElem e}
+      _ -> c
     plain pol ca cb = do
       (ca', cb') <- widen pol ca cb
       case binaryType pol o (ceType ca') (ceType cb') of
@@ -1297,6 +1423,7 @@ sizeOf = \case
   TArray bs t -> product [hi - lo + 1 | (lo, hi) <- bs] * sizeOf t
   TStruct _ fs -> sum (map (sizeOf . snd) fs)
   TEnum _ _ -> 2
+  TNumEnum _ e _ -> sizeOf (TElem e)
   TSubrange e _ _ -> sizeOf (TElem e)
   TFB _ -> 0
   TProgram _ -> 0

@@ -39,6 +39,8 @@ data Program = Program
   , prGlobals :: [VarInfo] -- ^ in declaration order
   , prInstances :: [(Text, Text)] -- ^ program instances run each cycle, in order: instance name, program type key
   , prTaskInterval :: Maybe Integer -- ^ the interval of the configuration's task, milliseconds, if it states one
+  , prGvls :: Map Text (Map Text Text) -- ^ CODESYS: each named global list's variables, by key, and where each is stored (NX-VAR-35)
+  , prChecks :: [Text] -- ^ the implicit check functions the program declares, by key (NX-ERR-1)
   }
 
 -- | A declared variable.
@@ -76,6 +78,7 @@ data PouDef = PouDef
   , pdBody :: Body
   , pdEndPos :: Pos
   , pdBase :: Maybe Text -- ^ the FB it extends, by key (NX-POU-44)
+  , pdChecked :: Bool -- ^ do the implicit check functions apply in its body? (not in themselves, nor under no_check: NX-ERR-3, NX-ERR-4)
   , pdMethods :: Map Text PouDef -- ^ its own methods, property accessors and actions, by key
   }
 

@@ -177,6 +177,7 @@ scalarValue pol ty s = case (ty, s) of
     Just i | isBitString e, i < 0, i >= negate (2 ^ (intBits e - 1)) -> Right (VInt e (i + 2 ^ intBits e))
     _ -> Left (T.pack (show n) <> " is not a value of " <> elemName e)
   (TSubrange e _ _, SNumber n) | Just i <- integral n -> Right (VInt e i)
+  (TNumEnum _ e _, SNumber n) | Just i <- integral n -> Right (VInt e i)
   (TElem REAL, SNumber n) -> Right (VReal (scientificToFloat n))
   (TElem LREAL, SNumber n) -> Right (VLReal (scientificToDouble n))
   (TElem REAL, SNaN) -> Right (VReal (0 / 0))
@@ -216,9 +217,11 @@ literalValue pol ty t = case parseUnitExpr pol t of
       EUn _ UNeg (ELit _ (LReal r x)) -> fromLit (LReal (negate r) x)
       EEnum _ _ v -> enumValue v
       EVar _ v -> enumValue v
+      EField _ (EVar _ _) v -> enumValue v
       _ -> Nothing
     enumValue v = case ty of
       TEnum n vs -> VEnum n <$> lookupCI v vs
+      TNumEnum _ e vs -> VInt e <$> lookup (T.toUpper v) [(T.toUpper k, x) | (k, x) <- vs]
       _ -> Nothing
     lookupCI v vs = case [x | x <- vs, T.toUpper x == T.toUpper v] of
       (x : _) -> Just x
@@ -232,6 +235,7 @@ literalValue pol ty t = case parseUnitExpr pol t of
       (TString _ _, LString s) -> Just (VString s)
       (TString _ _, LWString s) -> Just (VString s)
       (TElem e, LInt n) | isInt e, fitInt e n -> Just (VInt e n)
+      (TNumEnum _ e _, LInt n) | fitInt e n -> Just (VInt e n)
       (TElem REAL, LReal r _) -> Just (VReal (fromRational r))
       (TElem LREAL, LReal r _) -> Just (VLReal (fromRational r))
       (TElem REAL, LInt n) -> Just (VReal (fromInteger n))

@@ -59,6 +59,8 @@ data Ctx = Ctx
   , cxProgram :: Program
   , cxSelf :: RefPath -- ^ the running POU's instance or frame
   , cxThis :: RefPath -- ^ the instance its code runs on (a method's: NX-POU-27)
+  , cxChecked :: Bool -- ^ do the implicit check functions apply here (NX-ERR-3, NX-ERR-4)
+  , cxWriting :: Bool -- ^ is the reference being resolved written (CheckPointer's bWrite, NX-ERR-19)
   , cxDepth :: Int
   }
 
@@ -92,7 +94,7 @@ runCycle pol prog clock m0 =
       run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
         Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
-      ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) 0
+      ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
         Left (SigFault p f) -> (m', Just (StopFault p f))
@@ -118,7 +120,7 @@ tick p = do
 -- | Run a POU's body in the current context: VAR_TEMP starts afresh
 -- (TC-VAR-8); RETURN ends the body (TC-STMT-38).
 callBody :: PouDef -> Eval ()
-callBody d = do
+callBody d = local (\c -> c {cxChecked = pdChecked d}) $ do
   self <- asks cxSelf
   forM_ [v | v <- pdVars d, viSection v == SecTemp] $ \v -> putPath (extend self (StepField (viKey v))) (viInit v)
   levels <- edgesIn d self
@@ -215,6 +217,10 @@ callFunction p f ins inouts = do
   d <- maybe (fault p (Fault "call-depth" ("unknown function " <> f))) pure (lookupPou prog f)
   inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
   refs <- forM inouts $ \(k, r) -> (k,r,) <$> refPath p r
+  callFunctionWith p d inputs refs
+
+callFunctionWith :: Pos -> PouDef -> [(Text, Value)] -> [(Text, CRef, RefPath)] -> Eval Value
+callFunctionWith p d inputs refs = do
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
   let frame = RefPath (RootFrame (depth + 1)) []
@@ -226,6 +232,29 @@ callFunction p f ins inouts = do
   result <- getPath (extend frame (StepField (key (pdName d))))
   modify' (\m -> m {mFrames = M.delete (depth + 1) (mFrames m)})
   pure result
+
+-- | NX-ERR-1..20: an implicit check function, called with these values
+-- for its inputs in the order of their declaration, when the program
+-- declares it and the running POU is checked; Nothing otherwise.
+implicitCheck :: Pos -> Text -> [Value] -> Eval (Maybe Value)
+implicitCheck p name args = do
+  checked <- asks cxChecked
+  prog <- asks cxProgram
+  case lookupPou prog name of
+    Just d | checked, name `elem` prChecks prog -> do
+      pol <- asks cxPol
+      let params = [v | v <- pdVars d, viSection v == SecInput]
+      inputs <- forM (zip params args) $ \(v, a) -> (viKey v,) <$> orFault p (convertValue pol (viType v) a)
+      Just <$> callFunctionWith p d inputs []
+    _ -> pure Nothing
+
+-- | A value converted to a type, as an implicit conversion would.
+convertValue :: Policies -> Type -> Value -> Either Fault Value
+convertValue pol t v = case (t, v) of
+  (TPointer _, VInt _ _) -> Right v
+  _ -> case valueElem v of
+    Just e | TElem e /= t, Just _ <- baseElem t -> convert pol (TElem e) t v
+    _ -> Right v
 
 ------------------------------------------------------------------------------
 -- Statements (TC-STMT-*)
@@ -253,7 +282,7 @@ exec = \case
     -- TC-STMT-7
     tick p
     v <- eval e
-    target <- refPath p r
+    target <- local (\c -> c {cxWriting = True}) (refPath p r)
     storeTarget p t r target v
   CCallFB p c -> tick p >> callFB p c
   CEval p e -> tick p >> () <$ eval e
@@ -400,7 +429,11 @@ eval ce = case ceNode ce of
       (BAnd, VBool False, ShortCircuit) -> pure x
       (BOr, VBool True, ShortCircuit) -> pure x
       _ -> do
-        y <- eval b
+        y0 <- eval b
+        -- NX-ERR-11..13: CheckDiv*'s result is the divisor
+        y <- case (o, baseElem (ceType b) >>= checkDivName) of
+          (BDiv, Just name) -> implicitCheck (cePos ce) name [y0] >>= maybe (pure y0) (orFault (cePos ce) . convertValue pol (ceType b))
+          _ -> pure y0
         orFault (cePos ce) (binary pol o x y)
   CConvert t a -> do
     pol <- asks cxPol
@@ -467,6 +500,31 @@ callMethod p d r ins inouts outs = do
   where
     resultKey md = key (pdName md)
 
+-- | NX-ERR-1, NX-ERR-2: the check function of a division by its divisor's type.
+checkDivName :: Elem -> Maybe Text
+checkDivName e
+  | e == REAL = Just "CHECKDIVREAL"
+  | e == LREAL = Just "CHECKDIVLREAL"
+  | isInt e && intBits e <= 16 = Just "CHECKDIVINT"
+  | isInt e && intBits e == 32 = Just "CHECKDIVDINT"
+  | isInt e = Just "CHECKDIVLINT"
+  | otherwise = Nothing
+
+intValue :: Value -> Integer
+intValue = \case
+  VInt _ n -> n
+  VBool b -> if b then 1 else 0
+  _ -> 0
+
+-- | The largest unstructured type inside a type, in bytes (CheckPointer's
+-- iGran, NX-ERR-19).
+granularity :: Layout -> Type -> Integer
+granularity ly t = case t of
+  TArray _ et -> granularity ly et
+  TStruct _ fs -> maximum (1 : [granularity ly ft | (_, ft) <- fs])
+  TFB n -> maximum (1 : [granularity ly ft | (_, ft) <- lyMembers ly n])
+  _ -> sizeInBytes ly t
+
 ------------------------------------------------------------------------------
 -- Variables
 
@@ -490,7 +548,9 @@ refPath p = \case
     case arr of
       VArray bs _ -> do
         pol <- asks cxPol
-        checked <- forM (zip ns bs) $ \(n, (lo, hi)) ->
+        checked <- forM (zip ns bs) $ \(n0, (lo, hi)) -> do
+          -- NX-ERR-5..8: CheckBounds' result is the index
+          n <- maybe n0 intValue <$> implicitCheck p "CHECKBOUNDS" [VInt DINT n0, VInt DINT lo, VInt DINT hi]
           if n >= lo && n <= hi
             then pure n
             else case pIndexOutOfRange pol of
@@ -500,8 +560,13 @@ refPath p = \case
       _ -> pure (extend base (StepIndex ns))
   CLocated l _ -> pure (RefPath (RootLocated (locText l)) [])
   CDeref e t -> do
-    -- NX-TYPE-75: the variable of the pointer's base type at its address
-    v <- eval e
+    -- NX-TYPE-75: the variable of the pointer's base type at its address;
+    -- NX-ERR-19: CheckPointer sees the access first, its result is used
+    v0 <- eval e
+    writing <- asks cxWriting
+    prog <- asks cxProgram
+    let ly = layoutOf prog
+    v <- maybe v0 (VInt DWORD . intValue) <$> implicitCheck p "CHECKPOINTER" [v0, VInt DINT (sizeInBytes ly t), VInt DINT (granularity ly t), VBool writing]
     case v of
       VInt _ 0 -> fault p (Fault "null-pointer" "the pointer is 0: it points at no variable")
       VInt _ a -> do
@@ -557,9 +622,13 @@ fitValue p t v = do
       | isInt e && not (fitInt e n) -> pure (VInt e (case pNarrowInt pol of
           NarrowWrap -> wrapInt e n
           NarrowSaturate -> let (lo, hi) = intRange e in max lo (min hi n)))
-    (TSubrange _ lo hi, VInt _ n)
-      | (n < lo || n > hi) && pSubrange pol == SubrangeError ->
-          fault p (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)"))
+    (TSubrange e lo hi, VInt _ n0) -> do
+      -- NX-ERR-15, NX-ERR-16: CheckRangeSigned/Unsigned's result is stored
+      let name = if isSignedInt e then "CHECKRANGESIGNED" else "CHECKRANGEUNSIGNED"
+      n <- maybe n0 intValue <$> implicitCheck p name [VInt DINT n0, VInt DINT lo, VInt DINT hi]
+      if (n < lo || n > hi) && pSubrange pol == SubrangeError
+        then fault p (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)"))
+        else pure (VInt e (wrapInt e n))
     _ -> pure v
 
 rootValue :: Root -> Machine -> Maybe Value
@@ -715,18 +784,19 @@ writeLocated l t v mem =
 -- @MAIN.fb.Q@, @MAIN.a[2,3]@, @MAIN.r.f@; located variables read from their
 -- bytes. Nothing when the path names nothing.
 readVariablePath :: Program -> Machine -> [Step] -> Maybe (Value, Maybe Type)
-readVariablePath prog m = \case
-  StepField first : rest
-    | Just inst <- M.lookup first (mPrograms m) -> do
-        (_, t) <- find ((== first) . key . fst) (prInstances prog)
-        d <- lookupPou prog t
-        fromInstance d inst rest
-    | otherwise -> case find ((== first) . viKey) (prGlobals prog) of
-        Just v | Just l <- viAt v, null rest -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
-        Just v -> (,Nothing) <$> (M.lookup first (mGlobals m) >>= walkFollow rest) >>= \(x, _) -> Just (x, typeAt (viType v) rest)
-        Nothing -> Nothing
-  _ -> Nothing
+readVariablePath prog m = readPath . throughList prog
   where
+    readPath = \case
+      StepField first : rest
+        | Just inst <- M.lookup first (mPrograms m) -> do
+            (_, t) <- find ((== first) . key . fst) (prInstances prog)
+            d <- lookupPou prog t
+            fromInstance d inst rest
+        | otherwise -> case find ((== first) . viKey) (prGlobals prog) of
+            Just v | Just l <- viAt v, null rest -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
+            Just v -> (,Nothing) <$> (M.lookup first (mGlobals m) >>= walkFollow rest) >>= \(x, _) -> Just (x, typeAt (viType v) rest)
+            Nothing -> Nothing
+      _ -> Nothing
     fromInstance d inst rest = case rest of
       StepField k : more | Just v <- varByKey d k, Just l <- viAt v, null more -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
       StepField k : more | Just v <- varByKey d k -> do
@@ -747,9 +817,16 @@ readVariablePath prog m = \case
         _ -> Nothing
       StepChar w _ : more -> typeAt (TElem (if w then WORD else BYTE)) more
 
+-- | A path that starts with a named global list's name, @GVL.x@, to the
+-- variable as it is stored (NX-VAR-35).
+throughList :: Program -> [Step] -> [Step]
+throughList prog = \case
+  StepField l : StepField x : rest | Just k <- M.lookup l (prGvls prog) >>= M.lookup x -> StepField k : rest
+  steps -> steps
+
 -- | Write a variable at a path before a cycle (the corpus's @set@, §4.1).
 writeVariablePath :: Program -> Machine -> [Step] -> Value -> Maybe Machine
-writeVariablePath prog m steps v = case steps of
+writeVariablePath prog m steps0 v = case throughList prog steps0 of
   StepField first : rest
     | M.member first (mPrograms m) -> located first rest (RefPath (RootProgram first) rest)
     | Just g <- find ((== first) . viKey) (prGlobals prog) -> case viAt g of

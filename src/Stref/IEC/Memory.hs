@@ -47,6 +47,7 @@ sizeAlign ly = \case
   TArray bs t -> let (s, a) = sizeAlign ly t in (count bs * s, a)
   TStruct _ fs -> record (map snd fs)
   TEnum _ _ -> (2, 2)
+  TNumEnum _ e _ -> let n = elemSize e in (n, n)
   TSubrange e _ _ -> let n = elemSize e in (n, n)
   TFB n -> record (map snd (lyMembers ly n))
   TProgram n -> record (map snd (lyMembers ly n))

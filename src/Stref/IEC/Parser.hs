@@ -143,8 +143,18 @@ isWordChar c = isAsciiUpper c || isAsciiLower c || isDigit c || c == '_'
 -- | White space and comments (TC-LEX-5..9): @(* *)@, nested only under
 -- @nested-comments = yes@; @//@ to the end of the line.
 sc :: Policies -> Parser ()
-sc pol = skipMany (void (takeWhile1P (Just "white space") isSpace) <|> blockComment <|> lineComment)
+sc pol = skipMany (void (takeWhile1P (Just "white space") isSpace) <|> blockComment <|> lineComment <|> pragma)
   where
+    -- NX-PRAGMA-1, NX-PRAGMA-2, NX-PRAGMA-4: a pragma stands on one line; one
+    -- that means nothing to stref is ignored, an attribute is read where a
+    -- declaration may carry it, {error '...'} stops the compilation
+    pragma
+      | pExtensions pol /= ExtensionsCodesys = empty
+      | otherwise = do
+          off <- getOffset
+          body <- try (char '{' *> notFollowedBy (try (many (char ' ') *> string' "attribute")) *> takeWhileP Nothing (\c -> c /= '}' && c /= '\n') <* char '}')
+          when ("error" `T.isPrefixOf` T.toLower (T.stripStart body)) $
+            failAt off "pragma-error" ("the program asks for a compilation error: " <> T.strip (T.drop 5 (T.stripStart body)) <> " (NX-PRAGMA-4)")
     lineComment = try (string "//") *> void (takeWhileP Nothing (/= '\n'))
     blockComment = do
       off <- getOffset
@@ -434,14 +444,32 @@ location pol = lexeme pol $ do
 -- Declarations
 
 decl :: Policies -> Parser Decl
-decl pol =
+decl pol = do
+  attrs <- attributes pol
   choice
     [ DTypes <$> (kw pol "TYPE" *> many (typeDecl pol) <* kw pol "END_TYPE")
-    , DGlobals <$> varBlock pol
-    , DPou <$> pou pol
+    , DGlobals . (\b -> b {vbAttributes = attrs ++ vbAttributes b}) <$> varBlock pol
+    , DPou . (\p -> p {pouAttributes = attrs}) <$> pou pol
     , DConfig <$> configuration pol
     ]
     <?> "TYPE, VAR_GLOBAL, FUNCTION, FUNCTION_BLOCK, PROGRAM or CONFIGURATION"
+
+-- | CODESYS attribute pragmas before a declaration (NX-PRAGMA-5, NX-PRAGMA-6):
+-- @{attribute 'name'}@, @{attribute 'name' := 'value'}@, in any case.
+attributes :: Policies -> Parser [Attribute]
+attributes pol
+  | pExtensions pol /= ExtensionsCodesys = pure []
+  | otherwise = many $ lexeme pol $ do
+      _ <- try (char '{' *> many (char ' ') *> string' "attribute")
+      hspace
+      n <- quoted
+      hspace
+      v <- optional (string ":=" *> hspace *> quoted <* hspace)
+      _ <- char '}'
+      pure (T.toLower (T.strip n), maybe "" T.strip v)
+  where
+    hspace = void (takeWhileP Nothing (\c -> c == ' ' || c == '\t'))
+    quoted = char '\'' *> takeWhileP Nothing (\c -> c /= '\'' && c /= '\n') <* char '\''
 
 typeDecl :: Policies -> Parser TypeDecl
 typeDecl pol = do
@@ -466,7 +494,10 @@ typeSpec pol = do
         TSArray p dims <$> typeSpec pol
     , extensionP pol (kw pol "POINTER" *> kw pol "TO" *> (TSPointer p <$> typeSpec pol))
     , kw pol "STRUCT" *> (TSStruct p . concat <$> many (varDecls pol)) <* kw pol "END_STRUCT"
-    , TSEnum p <$> (symbol pol "(" *> identifier pol `sepBy1` symbol pol "," <* symbol pol ")")
+    , do
+        items <- symbol pol "(" *> enumItem pol `sepBy1` symbol pol "," <* symbol pol ")"
+        base <- if codesys pol then optional (try (name pol <* notFollowedBy (symbol pol ":" <|> symbol pol ","))) else pure Nothing
+        pure (TSEnum p items base)
     , do
         wide <- (False <$ kw pol "STRING") <|> (True <$ kw pol "WSTRING")
         len <- optional ((symbol pol "[" *> expr pol <* symbol pol "]") <|> try (symbol pol "(" *> expr pol <* symbol pol ")"))
@@ -477,6 +508,13 @@ typeSpec pol = do
         pure (maybe (TSName p n) (TSSubrange p n) range)
     ]
     <?> "a type"
+
+-- | An enumerated value, with its number under CODESYS (NX-TYPE-62).
+enumItem :: Policies -> Parser (Pos, Name, Maybe Expr)
+enumItem pol = do
+  (p, n) <- identifier pol
+  v <- if codesys pol then optional (symbol pol ":=" *> expr pol) else pure Nothing
+  pure (p, n, v)
 
 -- | An initial value: an expression, @[...]@ with @n(v)@ repetitions
 -- (TC-TYPE-43), or @(field := v, ...)@ (TC-TYPE-44).
@@ -514,31 +552,40 @@ sectionP pol =
 
 varBlock :: Policies -> Parser VarBlock
 varBlock pol = do
+  attrs <- attributes pol
   p <- pos
   sec <- sectionP pol
-  quals <- many ((True, False) <$ kw pol "CONSTANT" <|> (False, True) <$ kw pol "RETAIN" <|> (False, False) <$ kw pol "NON_RETAIN")
+  quals <- many (choice [Q1 <$ kw pol "CONSTANT", Q2 <$ kw pol "RETAIN", Q0 <$ kw pol "NON_RETAIN", Q3 <$ kw pol "PERSISTENT"])
   ds <- concat <$> many (varDecls pol)
   kw pol "END_VAR"
-  pure (VarBlock p sec (any fst quals) (any snd quals) ds)
+  pure (VarBlock p sec (Q1 `elem` quals) (Q2 `elem` quals || Q3 `elem` quals) ds (Q3 `elem` quals) attrs)
+
+-- | The qualifiers of a variable block: none, CONSTANT, RETAIN, PERSISTENT
+-- (which is also retentive, NX-VAR-20).
+data Qualifier = Q0 | Q1 | Q2 | Q3
+  deriving (Eq)
 
 -- | @a, b : T := v;@, @x AT %IW2 : WORD;@, @AT %QW2 : WORD := 16#00FF;@ and
 -- several located names of one type, @sb1 AT %X0.0, sb2 AT %X0.1 : BOOL;@
 -- (TC-ADDR-6, TC-ADDR-9, TC-ADDR-10): one declaration per location.
 varDecls :: Policies -> Parser [VarDecl]
 varDecls pol = do
+  attrs <- attributes pol
   p <- pos
   declarators <- declarator `sepBy` symbol pol ","
   when (null declarators) (void (identifier pol))
   symbol pol ":"
   t <- typeSpec pol
+  -- NX-POU-35: an FB instance's FB_Init inputs at its declaration
+  args <- if codesys pol then option [] (try (symbol pol "(" *> arg pol `sepBy1` symbol pol "," <* symbol pol ")")) else pure []
   edge <- optional (REdge <$ kw pol "R_EDGE" <|> FEdge <$ kw pol "F_EDGE")
   i <- optional (symbol pol ":=" *> initValue pol)
   symbol pol ";"
   let plain = [n | (Just n, Nothing) <- declarators]
       located = [(n, l) | (n, Just l) <- declarators]
   pure $
-    [VarDecl p plain Nothing t edge i | not (null plain)]
-      ++ [VarDecl p (maybe [] (: []) n) (Just l) t edge i | (n, l) <- located]
+    [VarDecl p plain Nothing t edge i attrs args | not (null plain)]
+      ++ [VarDecl p (maybe [] (: []) n) (Just l) t edge i attrs args | (n, l) <- located]
   where
     declarator =
       ((,) <$> (Just <$> identifier pol) <*> optional (kw pol "AT" *> location pol))
@@ -562,7 +609,7 @@ pou pol = do
   after <- many (member pol)
   e <- pos
   kw pol endKw
-  pure (Pou p kind n result blocks body e base (before ++ after))
+  pure (Pou p kind n result blocks body e base (before ++ after) [])
 
 -- | @EXTENDS A@; a second base is @multiple-inheritance@ (NX-POU-47).
 extendsClause :: Policies -> Parser (Pos, Name)
@@ -581,7 +628,7 @@ extensionP pol q = if codesys pol then q else empty
 
 -- | A METHOD, PROPERTY or ACTION written inside its POU (docs/nexto.md).
 member :: Policies -> Parser Member
-member pol = extensionP pol (choice [method, property, action])
+member pol = extensionP pol (attributes pol *> choice [method, property, action])
   where
     specifiers = many (choice [kw pol w | w <- ["PUBLIC", "PRIVATE", "PROTECTED", "INTERNAL", "FINAL", "ABSTRACT"]])
     method = do

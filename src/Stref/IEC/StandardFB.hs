@@ -41,7 +41,7 @@ standardFBs pol =
       let infos = [VarInfo v v s t (defaultValue t) False Nothing Nothing noP | (v, s, t) <- vars]
           hiddenInfos = [VarInfo h h SecVar (TElem BOOL) v False Nothing Nothing noP | (h, v) <- hidden]
           allVars = infos ++ hiddenInfos
-       in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noP Nothing M.empty)
+       in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noP Nothing True M.empty)
     noP = Pos 0 0
     -- the library's names and the counters' type (policy standard-library)
     (set1, reset, set, reset1, load, counter) = case pStandardLibrary pol of

@@ -19,6 +19,8 @@ module Stref.IEC.Syntax
   , VarDecl (..)
   , EdgeQualifier (..)
   , Location (..)
+  , Attribute
+  , attributeValue
   , Pou (..)
   , PouKind (..)
   , pouKindKeyword
@@ -74,7 +76,7 @@ data TypeSpec
   | TSString Pos Bool (Maybe Expr) -- ^ @STRING[n]@ / @WSTRING[n]@ (True: wide)
   | TSArray Pos [(Expr, Expr)] TypeSpec -- ^ @ARRAY [a..b, c..d] OF T@
   | TSStruct Pos [VarDecl] -- ^ @STRUCT ... END_STRUCT@
-  | TSEnum Pos [(Pos, Name)] -- ^ @(a, b, c)@
+  | TSEnum Pos [(Pos, Name, Maybe Expr)] (Maybe Name) -- ^ @(a, b, c)@; CODESYS: @(a, b := 10) DINT@ (NX-TYPE-57)
   | TSSubrange Pos Name (Expr, Expr) -- ^ @INT (lo..hi)@
   | TSPointer Pos TypeSpec -- ^ CODESYS: @POINTER TO T@ (NX-TYPE-74)
   deriving (Eq, Show)
@@ -103,8 +105,17 @@ data VarBlock = VarBlock
   , vbConstant :: Bool
   , vbRetain :: Bool
   , vbDecls :: [VarDecl]
+  , vbPersistent :: Bool -- ^ CODESYS: @PERSISTENT@ (NX-VAR-20)
+  , vbAttributes :: [Attribute] -- ^ CODESYS: the attributes before the block (a GVL's)
   }
   deriving (Eq, Show)
+
+-- | CODESYS: @{attribute 'name' := 'value'}@ (NX-PRAGMA-5): the name in
+-- lower case, the value ("" when none).
+type Attribute = (Text, Text)
+
+attributeValue :: Text -> [Attribute] -> Maybe Text
+attributeValue = lookup
 
 data EdgeQualifier = REdge | FEdge
   deriving (Eq, Show)
@@ -126,6 +137,8 @@ data VarDecl = VarDecl
   , vdType :: TypeSpec
   , vdEdge :: Maybe EdgeQualifier
   , vdInit :: Maybe Init
+  , vdAttributes :: [Attribute] -- ^ CODESYS: the attributes before the declaration
+  , vdArgs :: [Arg] -- ^ CODESYS: an FB instance's FB_Init inputs, @com1 : Dev(nCom := 1)@ (NX-POU-35)
   }
   deriving (Eq, Show)
 
@@ -147,6 +160,7 @@ data Pou = Pou
   , pouEnd :: Pos -- ^ where @END_...@ stands
   , pouExtends :: Maybe (Pos, Name) -- ^ CODESYS: @FUNCTION_BLOCK B EXTENDS A@ (NX-POU-44)
   , pouMembers :: [Member] -- ^ CODESYS: methods, properties and actions, written inside the POU
+  , pouAttributes :: [Attribute] -- ^ CODESYS: the attributes before the POU (no_check, NX-PRAGMA-8)
   }
   deriving (Eq, Show)
 

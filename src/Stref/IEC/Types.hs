@@ -62,6 +62,9 @@ data Type
   | TSubrange Elem Integer Integer -- ^ base type and bounds (TC-TYPE-32)
   | TFB Text -- ^ an instance of the named function block (standard or user)
   | TProgram Text -- ^ a program instance
+  | TNumEnum Text Elem [(Text, Integer)]
+  -- ^ policy enumerations = integer (CODESYS, NX-TYPE-57..67): the type's
+  -- name, its base type and its values; a value is a number of the base type
   | TPointer Type -- ^ CODESYS: @POINTER TO T@; its value is an address, a DWORD (NX-TYPE-74, NX-TYPE-78)
   deriving (Eq, Ord, Show)
 
@@ -148,12 +151,14 @@ typeText = \case
   TFB n -> n
   TProgram n -> n
   TPointer t -> "POINTER TO " <> typeText t
+  TNumEnum n _ _ -> n
 
 -- | The elementary type under a subrange, or of an elementary type.
 baseElem :: Type -> Maybe Elem
 baseElem = \case
   TElem e -> Just e
   TSubrange e _ _ -> Just e
+  TNumEnum _ e _ -> Just e
   _ -> Nothing
 
 -- | Types that hold the same values: strings of any capacity are one type
@@ -163,6 +168,9 @@ sameType a b = case (a, b) of
   (TString w1 _, TString w2 _) -> w1 == w2
   (TSubrange e _ _, t) -> sameType (TElem e) t
   (t, TSubrange e _ _) -> sameType t (TElem e)
+  -- NX-TYPE-60, NX-TYPE-61: CODESYS's enumerated values are numbers
+  (TNumEnum _ e _, t) -> sameType (TElem e) t
+  (t, TNumEnum _ e _) -> sameType t (TElem e)
   (TArray b1 t1, TArray b2 t2) -> map dimLen b1 == map dimLen b2 && sameType t1 t2
   _ -> a == b
   where

@@ -94,6 +94,8 @@ defaultValue = \case
   TFB n -> VInstance n M.empty
   TProgram n -> VInstance n M.empty
   TPointer _ -> VInt DWORD 0 -- the null pointer
+  TNumEnum _ e ((_, v) : _) -> VInt e v -- NX-TYPE-36: the first value
+  TNumEnum _ e [] -> VInt e 0
 
 -- | Is the integer within the type's range?
 fitInt :: Elem -> Integer -> Bool
