@@ -19,6 +19,7 @@ import Data.Maybe (fromMaybe, isJust)
 import qualified Data.Set as Set
 import Data.Text (Text)
 import qualified Data.Text as T
+import Stref.IEC.Pragma (preprocessWith)
 import Stref.IEC.Syntax
 import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..))
 import Stref.Verification (VerificationError (..))
@@ -35,7 +36,13 @@ type Parser = Parsec Issue Text
 
 -- | Parse a whole compilation unit.
 parseUnit :: Policies -> FilePath -> Text -> Either VerificationError Unit
-parseUnit pol file src = case tooDeep pol src of
+parseUnit pol file src0 = do
+  -- NX-PRAGMA-13: conditional compilation first, keeping every position
+  src <- if codesys pol then preprocessWith (pNestedComments pol) src0 else Right src0
+  parseText pol file src
+
+parseText :: Policies -> FilePath -> Text -> Either VerificationError Unit
+parseText pol file src = case tooDeep pol src of
   Just off -> Left (VerificationError "nesting-too-deep" (posAt src off) ("the program is nested more than " <> T.pack (show maxNesting) <> " levels deep (parentheses, brackets, operators or statements); split it into simpler parts"))
   Nothing -> runP pol file src (sc pol *> (Unit <$> many (decl pol)) <* eofP)
 
