@@ -148,7 +148,7 @@ observedVariables r =
   let m = rrMachine r
       prog = rrProgram r
       globals = [(viName v, v) | v <- prGlobals prog]
-      instances = [(inst, t) | (inst, t) <- prInstances prog]
+      instances = [(inst, t) | (inst, t) <- prRoots prog]
       -- arrays by their own indices (ARRAY [0..4] from a[0]), structures and
       -- instances field by field
       pathsOf prefix = \case

@@ -37,6 +37,9 @@ module Stref.Policy
   , Extensions (..)
   , ReservedNames (..)
   , Enumerations (..)
+  , BitStringArithmetic (..)
+  , ProgramCalls (..)
+  , FBAccess (..)
   , Model (..)
   , mastertoolXE
   , tecomat
@@ -190,6 +193,24 @@ data ReservedNames = ReservedIec | ReservedCodesys
 data Enumerations = EnumSymbolic | EnumInteger
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | Do + - * / MOD take bit strings (BYTE, WORD, DWORD, LWORD)? IEC: no,
+-- they are not numbers (TC-TYPE-14 of the catalogue's IEC reading);
+-- CODESYS: yes, modulo 2^n (NX-OP-23, NX-OP-30).
+data BitStringArithmetic = BitArithmeticNo | BitArithmeticYes
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | May a POU call a PROGRAM (which then keeps its state between calls)?
+-- IEC/Tecomat: no, tasks run programs (TC-POU-44); CODESYS: yes, from
+-- programs and function blocks, not from functions (NX-POU-2..4).
+data ProgramCalls = ProgramCallsForbidden | ProgramCallsAllowed
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | Who may write an FB's inputs and outputs: IEC/Tecomat: an input is
+-- read-only inside its POU (TC-VAR-1) and an output outside the instance
+-- (TC-POU-24); CODESYS: both are plain variables of the instance.
+data FBAccess = AccessIec | AccessCodesys
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 -- | The controller a dialect runs on: MasterTool's (operand tables, CHF
 -- parameters, per-call initialisation, the diagnostic band) or IEC
 -- 61131-3's (program instances, tasks, a clock). Part of the preset, not a
@@ -238,6 +259,9 @@ data Policies = Policies
   , pExtensions :: !Extensions
   , pReservedNames :: !ReservedNames
   , pEnumerations :: !Enumerations
+  , pBitStringArithmetic :: !BitStringArithmetic
+  , pProgramCalls :: !ProgramCalls
+  , pFBAccess :: !FBAccess
   }
   deriving (Eq, Show)
 
@@ -282,6 +306,9 @@ mastertoolXE =
     , pExtensions = ExtensionsNone
     , pReservedNames = ReservedIec
     , pEnumerations = EnumSymbolic
+    , pBitStringArithmetic = BitArithmeticNo
+    , pProgramCalls = ProgramCallsForbidden
+    , pFBAccess = AccessIec
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -323,6 +350,9 @@ tecomat =
     , pExtensions = ExtensionsNone
     , pReservedNames = ReservedIec -- TC-LEX-3, TC-LEX-4
     , pEnumerations = EnumSymbolic -- TC-TYPE-21, TC-TYPE-36
+    , pBitStringArithmetic = BitArithmeticNo -- TC-OP-12
+    , pProgramCalls = ProgramCallsForbidden -- TC-POU-44
+    , pFBAccess = AccessIec -- TC-VAR-1, TC-POU-24
     }
 
 -- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
@@ -363,6 +393,9 @@ nexto =
     , pExtensions = ExtensionsCodesys
     , pReservedNames = ReservedCodesys -- NX-LEX-12, NX-LEX-13
     , pEnumerations = EnumInteger -- NX-TYPE-60..66
+    , pBitStringArithmetic = BitArithmeticYes -- NX-OP-23, NX-OP-30
+    , pProgramCalls = ProgramCallsAllowed -- NX-POU-2..4
+    , pFBAccess = AccessCodesys -- NX-POU-19
     }
 
 -- | Named presets: each dialect is an entry here, not a fork of the code.
@@ -444,6 +477,9 @@ policyTable =
   , enumPolicy "extensions" ["none", "codesys"] pExtensions (\v p -> p {pExtensions = v})
   , enumPolicy "reserved-names" ["iec", "codesys"] pReservedNames (\v p -> p {pReservedNames = v})
   , enumPolicy "enumerations" ["symbolic", "integer"] pEnumerations (\v p -> p {pEnumerations = v})
+  , enumPolicy "bit-string-arithmetic" ["no", "yes"] pBitStringArithmetic (\v p -> p {pBitStringArithmetic = v})
+  , enumPolicy "program-calls" ["forbidden", "allowed"] pProgramCalls (\v p -> p {pProgramCalls = v})
+  , enumPolicy "fb-access" ["iec", "codesys"] pFBAccess (\v p -> p {pFBAccess = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

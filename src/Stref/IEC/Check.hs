@@ -61,6 +61,8 @@ data Env = Env
   , envGvls :: M.Map Text (M.Map Text VarInfo) -- ^ CODESYS: the named global lists, for @GVL.x@ (NX-VAR-35)
   , envQualifiedOnly :: Set.Set Text -- ^ globals of a qualified_only list (NX-PRAGMA-10)
   , envAmbiguous :: Set.Set Text -- ^ globals that several lists declare (NX-LEX-9)
+  , envProgramInstance :: M.Map Text Text -- ^ each PROGRAM's instance, by the program's key
+  , envStatic :: Text -- ^ where the running POU's VAR_STAT lie: the prefix of their global keys
   , envTypeDepth :: Int
   }
 
@@ -89,10 +91,10 @@ standardFunctionNames =
 reservedName :: Policies -> Text -> Bool
 reservedName pol n =
   let u = key n
-   in isJust (parseElemName u) || u `elem` standardFunctionNames || u `elem` standardFBNames || isJust (conversionName u)
+   in isJust (parseElemName u) || isJust (conversionName u)
         || case pReservedNames pol of
           ReservedIec ->
-            u `elem` standardParameterNames
+            u `elem` standardFunctionNames || u `elem` standardFBNames || u `elem` standardParameterNames
               || (("IN" `T.isPrefixOf` u) && T.length u > 2 && T.all (`elem` ['0' .. '9']) (T.drop 2 u))
           ReservedCodesys -> u `elem` codesysReserved -- NX-LEX-12
 
@@ -100,7 +102,9 @@ reservedName pol n =
 -- grammar already (IL operators, operators named like functions).
 codesysReserved :: [Text]
 codesysReserved =
-  [ "ADR", "BITADR", "CAL", "CALC", "CALCN", "INDEXOF", "JMPC", "JMPCN", "LD", "LDN", "PARAMS", "R", "READ_ONLY", "READ_WRITE"
+  [ "ABS", "ACOS", "ADD", "AND", "ASIN", "ATAN", "COS", "DIV", "EQ", "EXP", "EXPT", "GE", "GT", "LE", "LN", "LOG", "LT", "MAX", "MIN"
+  , "MOD", "MOVE", "MUL", "MUX", "NE", "NOT", "OR", "ROL", "ROR", "SEL", "SHL", "SHR", "SIN", "SQRT", "SUB", "TAN", "TRUNC", "XOR"
+  , "ADR", "BITADR", "CAL", "CALC", "CALCN", "INDEXOF", "JMPC", "JMPCN", "LD", "LDN", "PARAMS", "R", "READ_ONLY", "READ_WRITE"
   , "RET", "RETC", "RETCN", "S", "SIZEOF", "ST", "STN", "BIT", "LTIME"
   ]
 
@@ -139,6 +143,8 @@ checkUnit pol choice (Unit decls) = runExcept $ do
           , envGvls = M.empty
           , envQualifiedOnly = Set.empty
           , envAmbiguous = Set.empty
+          , envProgramInstance = M.empty
+          , envStatic = ""
           , envTypeDepth = 0
           }
   -- global CONSTANTs, which declarations may use (array bounds, initial
@@ -170,8 +176,6 @@ checkUnit pol choice (Unit decls) = runExcept $ do
           , envQualifiedOnly = Set.fromList [key (viName v) | (_, True, vs) <- gvls, v <- vs]
           , envAmbiguous = Set.fromList [key (viName v) | v <- globals, clashes v]
           }
-  defs <- forM pous $ \p -> runReaderT (checkPou p) env1 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)], envSelf = selfOf p}
-  checkRecursion False pous globalBlocks
   instances <- case choice of
     AllPrograms -> pure [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram]
     ProgramNamed n -> case find ((== key n) . key . pouName) pous of
@@ -185,6 +189,16 @@ checkUnit pol choice (Unit decls) = runExcept $ do
         [p] -> pure [(pouName p, key (pouName p))]
         [] -> throwError (VerificationError "no-program" (Pos 1 1) "the file has no PROGRAM to run")
         (_ : p : _) -> throwError (VerificationError "several-programs" (pouPos p) "the file has several PROGRAMs and no CONFIGURATION: say which one runs")
+  -- NX-POU-1..4: every PROGRAM has one instance, the configuration's or
+  -- its own name's, which the tasks run and other POUs may call
+  let programRoots = instances ++ [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram, key (pouName p) `notElem` map snd instances]
+      env2 = env1 {envProgramInstance = M.fromList [(t, key inst) | (inst, t) <- reverse programRoots]}
+  defs <- forM pous $ \p -> runReaderT (checkPou p) env2 {envPou = Just p, envLocals = M.fromList [(viKey v, v) | v <- varsOf M.! key (pouName p)], envSelf = selfOf p, envStatic = staticPrefix (pouName p)}
+  -- NX-VAR-10: the VAR_STAT of every POU and method, stored as globals
+  let statics =
+        [v {viKey = staticPrefix (pouName p) <> viKey v} | p <- pous, v <- varsOf M.! key (pouName p), viSection v == SecStat]
+          ++ [v {viKey = staticPrefix (pouName p <> "." <> m) <> viKey v} | p <- pous, (m, (_, vs)) <- M.toList (membersOf M.! key (pouName p)), v <- vs, viSection v == SecStat]
+  checkRecursion False pous globalBlocks
   forM_ configs $ \c -> forM_ (cfgResources c) $ \r ->
     when (T.null (resName r)) $ case map taskPos (resTasks r) ++ map pcPos (resPrograms r) of
       (tp : _) -> throwError (VerificationError "section-not-allowed" tp "TASK and PROGRAM ... WITH stand inside a RESOURCE ... END_RESOURCE (TC-CFG-8, TC-CFG-12)")
@@ -195,13 +209,15 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   pure
     Program
       { prPous = M.union (M.fromList [(key (pdName d), d) | d <- defs]) std
-      , prGlobals = globals
+      , prGlobals = globals ++ statics
       , prInstances = instances
+      , prRoots = programRoots
       , prTaskInterval = interval
       , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
       , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where
+    staticPrefix n = "$STAT." <> key n <> "."
     selfOf p = if pouKind p `elem` [KFunctionBlock, KProgram] then Just (key (pouName p)) else Nothing
     reservedMessage n = "'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name user declarations (TC-LEX-1, TC-LEX-3)"
 
@@ -236,17 +252,25 @@ checkDuplicates = go Set.empty
 -- Declarations
 
 -- | Tab.2.2 (TC-VAR-9..15): which sections each POU kind may have.
-sectionAllowed :: PouKind -> Section -> Bool
-sectionAllowed k s = case (k, s) of
+sectionAllowed :: Policies -> PouKind -> Section -> Bool
+sectionAllowed pol k s = case (k, s) of
   (_, SecGlobal) -> False
-  (KFunction, SecOutput) -> False
+  -- NX-VAR-5, NX-VAR-9, NX-VAR-10: CODESYS's functions have outputs and
+  -- VAR_STAT but no VAR_TEMP; programs no VAR_STAT
+  (KFunction, SecOutput) -> codesys
+  (KFunction, SecTemp) -> not codesys
+  (KProgram, SecStat) -> False
+  (_, SecStat) -> codesys
   (KFunction, SecExternal) -> False
   _ -> True
+  where
+    codesys = pExtensions pol == ExtensionsCodesys
 
 pouVariables :: Pou -> C [VarInfo]
 pouVariables p = do
+  pol <- asks envPol
   forM_ (pouVars p) $ \b ->
-    unless (sectionAllowed (pouKind p) (vbSection b)) $
+    unless (sectionAllowed pol (pouKind p) (vbSection b)) $
       failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is not allowed in a " <> kindName (pouKind p) <> " (TC-VAR-9..15)")
   vs <- concat <$> mapM (blockVars (Just (pouKind p))) (pouVars p)
   let names = [(viPos v, viName v) | v <- vs] ++ [(pouPos p, pouName p) | pouKind p == KFunction]
@@ -337,6 +361,7 @@ sectionName = \case
   SecExternal -> "VAR_EXTERNAL"
   SecGlobal -> "VAR_GLOBAL"
   SecTemp -> "VAR_TEMP"
+  SecStat -> "VAR_STAT"
 
 kindName :: PouKind -> Text
 kindName = pouKindKeyword
@@ -346,7 +371,9 @@ blockVars :: Maybe PouKind -> VarBlock -> C [VarInfo]
 blockVars kind b = do
   -- TC-VAR-19..25 (Tab.3.11): CONSTANT only on VAR and VAR_GLOBAL; RETAIN on
   -- VAR_GLOBAL, and on VAR as the manual's own example shows (TC-ERRATA-10)
-  when (vbConstant b && vbSection b `notElem` [SecVar, SecGlobal]) $
+  pol <- asks envPol
+  let constantSections = [SecVar, SecGlobal] ++ [SecInput | pExtensions pol == ExtensionsCodesys] -- NX-VAR-2
+  when (vbConstant b && vbSection b `notElem` constantSections) $
     failC "section-not-allowed" (vbPos b) ("CONSTANT is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-19..25)")
   when (vbRetain b && vbSection b `notElem` [SecVar, SecGlobal]) $
     failC "section-not-allowed" (vbPos b) ("RETAIN is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-26)")
@@ -359,6 +386,16 @@ declVars kind sec constant d = do
   pol <- asks envPol
   forM_ (vdNames d) $ \(p, n) -> when (reservedName pol n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
   ty <- resolveType (vdType d)
+  when (pExtensions pol == ExtensionsCodesys) $ do
+    -- NX-POU-10: a function declares no FB instance (an input may take one)
+    case ty of
+      TFB _ | kind == Just KFunction, sec `elem` [SecVar, SecTemp, SecStat] ->
+        failC "instance-in-function" (vdPos d) "a FUNCTION cannot declare a function block instance (NX-POU-10)"
+      _ -> pure ()
+    -- NX-TYPE-58: an enumeration is declared with TYPE only
+    case vdType d of
+      TSEnum tp _ _ | isJust kind -> failC "section-not-allowed" tp "an enumeration is declared with TYPE, not in a POU's variables (NX-TYPE-58)"
+      _ -> pure ()
   when (sec == SecExternal && isJust (vdInit d)) $
     failC "external-initialised" (vdPos d) "a VAR_EXTERNAL variable cannot have an initial value (TC-VAR-30)"
   case vdEdge d of
@@ -369,7 +406,7 @@ declVars kind sec constant d = do
   when (isJust (vdAt d) && sec `notElem` [SecVar, SecGlobal]) $
     failC "section-not-allowed" (vdPos d) ("AT is not allowed in " <> sectionName sec)
   -- TC-ADDR-7: the location of symbolic variables only in programs
-  when (isJust (vdAt d) && kind `elem` [Just KFunction, Just KFunctionBlock]) $
+  when (isJust (vdAt d) && kind `elem` [Just KFunction, Just KFunctionBlock] && not (pExtensions pol == ExtensionsCodesys && kind == Just KFunctionBlock)) $
     failC "section-not-allowed" (vdPos d) "AT gives a location to a variable only in a PROGRAM or among the globals (TC-ADDR-7)"
   -- TC-POU-29: edge inputs belong to function blocks (and programs)
   when (isJust (vdEdge d) && kind == Just KFunction) $
@@ -475,6 +512,8 @@ resolveType = \case
       pure (lo, hi)
     TArray bs <$> resolveType t
   TSStruct _ ds -> do
+    forM_ ds $ \d -> when (isJust (vdAt d)) $
+      failC "section-not-allowed" (vdPos d) "a structure's member has no address (NX-TYPE-51)"
     fs <- forM ds $ \d -> do
       t <- resolveType (vdType d)
       pure [(n, t) | (_, n) <- vdNames d]
@@ -593,6 +632,14 @@ fitStore p ty v = case (ty, v) of
 checkPou :: Pou -> C PouDef
 checkPou p = do
   locals <- asks envLocals
+  pol <- asks envPol
+  globals <- asks envGlobals
+  -- NX-VAR-13, NX-ERR-32: VAR_EXTERNAL repeats a global's declaration exactly
+  when (pExtensions pol == ExtensionsCodesys) $
+    forM_ [v | v <- M.elems locals, viSection v == SecExternal] $ \v -> case M.lookup (viKey v) globals of
+      Just g | viType g == viType v -> pure ()
+      Just g -> failC "external-mismatch" (viPos v) ("VAR_EXTERNAL " <> viName v <> " is a " <> typeText (viType v) <> "; the global is a " <> typeText (viType g) <> " (NX-VAR-13)")
+      Nothing -> failC "external-mismatch" (viPos v) ("VAR_EXTERNAL " <> viName v <> " names no global variable (NX-VAR-13, NX-ERR-32)")
   body <- checkStmts (pouBody p)
   members <- checkMembers p
   let vars = M.elems locals
@@ -624,7 +671,7 @@ checkMembers p = do
         Nothing -> pure []
         Just (kind, vars) -> do
           let varMap = M.fromList [(viKey v, v) | v <- vars]
-          body <- local (\e -> e {envLocals = varMap, envInstanceVars = visible, envLoop = False, envLabels = Set.empty}) (checkStmts blocksBody)
+          body <- local (\e -> e {envLocals = varMap, envInstanceVars = visible, envLoop = False, envLabels = Set.empty, envStatic = "$STAT." <> key (pouName p) <> "." <> k <> "."}) (checkStmts blocksBody)
           pure
             [ ( k
               , PouDef
@@ -745,6 +792,12 @@ plainAssign :: Pos -> Expr -> Expr -> C (Maybe CStmt)
 plainAssign p target value = do
   (ref, ty) <- checkTarget target
   v <- checkExprAt (Just ty) value >>= assignable ty
+  pol <- asks envPol
+  when (pExtensions pol == ExtensionsCodesys) $ case (ty, ceNode v) of
+    -- NX-TYPE-70, NX-ERR-28: a constant outside a subrange is a compile error
+    (TSubrange _ lo hi, CConst (VInt _ n))
+      | n < lo || n > hi -> failC "value-out-of-limits" (exprPos value) ("the constant " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (NX-TYPE-70)")
+    _ -> pure ()
   pure (Just (CAssign p ref ty v))
 
 -- | Could the expression name a property: @x.f@, or a bare name?
@@ -775,6 +828,12 @@ labelOrdinal t e = do
 checkTarget :: Expr -> C (CRef, Type)
 checkTarget target = do
   (ref, ty, access) <- checkRef target
+  pol <- asks envPol
+  -- NX-VAR-19, NX-ERR-31: the program does not write an input's image
+  case ref of
+    CLocated l _ | locArea l `elem` ['I', 'X'], pExtensions pol == ExtensionsCodesys ->
+      failC "write-not-allowed" (exprPos target) ("the variable at " <> locText l <> " is an input: the program cannot write it (NX-VAR-19)")
+    _ -> pure ()
   case access of
     Writable -> pure (ref, ty)
     ReadOnly why -> failC "write-not-allowed" (exprPos target) why
@@ -866,17 +925,25 @@ fieldOf p base f = do
     TStruct _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
       Just t -> pure (CField ref (key f), t, access)
       Nothing -> failC "undeclared-variable" p ("the structure " <> typeText ty <> " has no field " <> f)
-    TFB fb -> do
+    _ | Just fb <- instanceType ty -> do
       d <- fbVars fb
       case find ((== key f) . viKey) d of
         Nothing -> failC "undeclared-variable" p ("the function block " <> fb <> " has no variable " <> f)
         Just v | own base -> pure (CField ref (key f), viType v, Writable) -- NX-POU-28: THIS^.x
         Just v -> case viSection v of
           SecInput -> pure (CField ref (key f), viType v, access) -- TC-POU-25
-          SecOutput -> pure (CField ref (key f), viType v, ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)"))
+          SecOutput -> do
+            pol <- asks envPol
+            pure (CField ref (key f), viType v, case pFBAccess pol of
+              AccessIec -> ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)")
+              AccessCodesys -> access) -- NX-POU-19
           _ -> pure (CField ref (key f), viType v, Hidden ("the variable " <> f <> " is internal to the function block " <> fb <> " (TC-POU-23)"))
     _ -> failC "type-mismatch" p (typeText ty <> " has no fields")
   where
+    instanceType = \case
+      TFB fb -> Just fb
+      TProgram prg -> Just prg
+      _ -> Nothing
     own = \case
       EDeref _ (EThis _) -> True
       EDeref _ (ESuper _) -> True
@@ -996,6 +1063,7 @@ fbVars fb = do
 lookupName :: Pos -> Text -> C (Maybe (CRef, Type, Access))
 lookupName _ n = do
   pol <- asks envPol
+  static <- asks envStatic
   locals <- asks envLocals
   instanceVars <- asks envInstanceVars
   globals <- asks envGlobals
@@ -1003,6 +1071,7 @@ lookupName _ n = do
   let k = key n
       asLocal v = case viSection v of
         SecExternal -> asGlobalNamed v
+        SecStat -> Just (CGlobal (static <> k), viType v, localAccess v) -- NX-VAR-10: one copy per POU
         _ -> Just (refOf (CLocal k) v, viType v, localAccess v)
       asGlobalNamed v = case M.lookup (viKey v) globals of
         Just g -> Just (refOf (CGlobal (viKey g)) g, viType g, globalAccess g)
@@ -1010,7 +1079,7 @@ lookupName _ n = do
       asGlobal g = (refOf (CGlobal (viKey g)) g, viType g, globalAccess g)
       refOf r v = maybe r (\l -> CLocated l (viType v)) (viAt v)
       localAccess v
-        | viSection v == SecInput = ReadOnly ("the input " <> viName v <> " is read-only inside its own POU (TC-VAR-1)")
+        | viSection v == SecInput && pFBAccess pol == AccessIec = ReadOnly ("the input " <> viName v <> " is read-only inside its own POU (TC-VAR-1)")
         | viConstant v = ReadOnly ("the CONSTANT " <> viName v <> " cannot be written (TC-VAR-18)")
         | otherwise = Writable
       globalAccess g
@@ -1019,8 +1088,13 @@ lookupName _ n = do
       loc = M.lookup k locals >>= asLocal
       inst = (\v -> (CInstance k, viType v, globalAccess v)) <$> M.lookup k instanceVars
       glob = asGlobal <$> M.lookup k globals
-  let _ = pou
-  pure $ case pNameResolution pol of
+  programInstance <- asks (M.lookup k . envProgramInstance)
+  -- NX-POU-3, NX-POU-4: a program's name is its instance, read (PRG.out)
+  -- and called from other programs and function blocks
+  let prog = case (programInstance, pProgramCalls pol, fmap pouKind pou) of
+        (Just i, ProgramCallsAllowed, Just kind) | kind /= KFunction -> Just (CProgram i, TProgram n, Writable)
+        _ -> Nothing
+  pure $ (<|> prog) $ case pNameResolution pol of
     LocalWins -> maybe (maybe glob Just inst) Just loc
     GlobalWins -> maybe (maybe inst Just loc) Just glob
 
@@ -1597,8 +1671,14 @@ checkCallStmt p callee args = do
     fbCall = do
       pous' <- asks envPous
       case callee of
-        EVar _ n | Just pou <- M.lookup (key n) pous', pouKind pou == KProgram ->
-          failC "program-call" p ("the PROGRAM " <> n <> " is run by a task; a POU cannot call it (TC-POU-44)")
+        EVar _ n | Just pou <- M.lookup (key n) pous', pouKind pou == KProgram -> do
+          pol <- asks envPol
+          caller <- asks (fmap pouKind . envPou)
+          case pProgramCalls pol of
+            ProgramCallsForbidden -> failC "program-call" p ("the PROGRAM " <> n <> " is run by a task; a POU cannot call it (TC-POU-44)")
+            ProgramCallsAllowed
+              | caller == Just KFunction -> failC "program-call" p ("a FUNCTION cannot call the PROGRAM " <> n <> " (NX-POU-2)")
+              | otherwise -> pure ()
         _ -> pure ()
       (ref, ty, access) <- checkRef callee
       case access of
@@ -1609,7 +1689,11 @@ checkCallStmt p callee args = do
           vars <- fbVars fb
           (ins, inouts, outs) <- bindArgs p fb vars args
           pure (CCallFB p (FBCall ref (key fb) ins inouts outs))
-        TProgram _ -> failC "program-call" p "a PROGRAM cannot be called from a POU (TC-POU-44)"
+        TProgram prg -> do
+          -- NX-POU-4: PRG(IN_VAR := 33, OUT_VAR => erg)
+          vars <- fbVars prg
+          (ins, inouts, outs) <- bindArgs p prg vars args
+          pure (CCallFB p (FBCall ref (key prg) ins inouts outs))
         _ -> failC "not-a-function-block" (exprPos callee) ("this is not a function block instance but a " <> typeText ty)
 
 -- | TC-POU-2: no POU calls itself, directly or through others (also through

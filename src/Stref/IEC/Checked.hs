@@ -37,6 +37,7 @@ key = T.toUpper
 data Program = Program
   { prPous :: Map Text PouDef -- ^ user and standard POUs by key
   , prGlobals :: [VarInfo] -- ^ in declaration order
+  , prRoots :: [(Text, Text)] -- ^ every program's instance (those the tasks run, and those only called): instance name, type key
   , prInstances :: [(Text, Text)] -- ^ program instances run each cycle, in order: instance name, program type key
   , prTaskInterval :: Maybe Integer -- ^ the interval of the configuration's task, milliseconds, if it states one
   , prGvls :: Map Text (Map Text Text) -- ^ CODESYS: each named global list's variables, by key, and where each is stored (NX-VAR-35)
@@ -125,6 +126,7 @@ data CRef
   | CField CRef Text -- ^ a structure's field or an FB instance's variable
   | CIndex CRef [CExpr] -- ^ an array element
   | CLocated Location Type -- ^ a direct address read as a type
+  | CProgram Text -- ^ CODESYS: a program's instance, by key (NX-POU-3)
   | CThis -- ^ the instance a function block's body, method or action runs on (NX-POU-28)
   | CDeref CExpr Type -- ^ CODESYS: what a pointer points at, of the pointer's base type (NX-TYPE-75)
   | CCharAt Bool CRef CExpr -- ^ CODESYS: @s[i]@ (True: a WSTRING), the code of a STRING's (WSTRING's) character i, from 0 (NX-TYPE-77)

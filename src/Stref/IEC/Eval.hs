@@ -75,13 +75,13 @@ maxCallDepth = 1000
 initialMachine :: Program -> Machine
 initialMachine prog =
   let globals = M.fromList [(viKey v, viInit v) | v <- prGlobals prog, viAt v == Nothing]
-      programs = M.fromList [(key inst, instanceOf t) | (inst, t) <- prInstances prog]
+      programs = M.fromList [(key inst, instanceOf t) | (inst, t) <- prRoots prog]
       instanceOf t = case lookupPou prog t of
         Just d -> VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])
         Nothing -> VInstance t M.empty
       located =
         [(l, viType v, viInit v) | v <- prGlobals prog, Just l <- [viAt v]]
-          ++ [(l, viType v, viInit v) | (_, t) <- prInstances prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
+          ++ [(l, viType v, viInit v) | (_, t) <- prRoots prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
       -- only explicit initial values: a default must not overwrite the
       -- initial value of another variable at the same bytes
       memory = foldl (\m (l, t, v) -> writeLocated l t v m) M.empty [x | x@(_, t, v) <- located, v /= defaultValue t]
@@ -579,6 +579,7 @@ refPath p = \case
     case iv of
       VInt _ n -> pure (extend base (StepChar w n))
       _ -> pure base
+  CProgram k -> pure (RefPath (RootProgram k) [])
   CThis -> asks cxThis
   CInstance k -> do
     this <- asks cxThis
@@ -695,7 +696,7 @@ roots = do
   frames <- gets mFrames
   let ly = layoutOf prog
       globals = placeAll ly globalsBase [(RootGlobal (viKey v), viType v) | v <- prGlobals prog, viAt v == Nothing]
-      programs = placeAll ly programsBase [(RootProgram (key inst), TProgram t) | (inst, t) <- prInstances prog]
+      programs = placeAll ly programsBase [(RootProgram (key inst), TProgram t) | (inst, t) <- prRoots prog]
       frameRoots = [(RootFrame d, TProgram n, frameBase d) | (d, VInstance n _) <- M.toList frames]
   pure (globals ++ programs ++ frameRoots)
 
@@ -789,7 +790,7 @@ readVariablePath prog m = readPath . throughList prog
     readPath = \case
       StepField first : rest
         | Just inst <- M.lookup first (mPrograms m) -> do
-            (_, t) <- find ((== first) . key . fst) (prInstances prog)
+            (_, t) <- find ((== first) . key . fst) (prRoots prog)
             d <- lookupPou prog t
             fromInstance d inst rest
         | otherwise -> case find ((== first) . viKey) (prGlobals prog) of
@@ -835,7 +836,7 @@ writeVariablePath prog m steps0 v = case throughList prog steps0 of
   _ -> Nothing
   where
     located inst rest path = do
-      (_, t) <- find ((== inst) . key . fst) (prInstances prog)
+      (_, t) <- find ((== inst) . key . fst) (prRoots prog)
       d <- lookupPou prog t
       case rest of
         [StepField k] | Just var <- varByKey d k, Just l <- viAt var -> Just (writeLocatedVar l (viType var) v m)

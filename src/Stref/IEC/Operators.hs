@@ -55,7 +55,7 @@ import Stref.Policy
 -- result has the operands' type (TC-CONV-2); only the intermediate width
 -- would differ, and this reference computes exactly (see 'intResult').
 binaryType :: Policies -> BinOp -> Type -> Type -> Either Text Type
-binaryType _ op ta tb = case typeOf op a b of
+binaryType pol op ta tb = case typeOf op a b <|> bitArithmetic of
   Just t -> Right t
   Nothing
     | a /= b && (isJust' (typeOf op a a) || isJust' (typeOf op b b)) ->
@@ -66,6 +66,11 @@ binaryType _ op ta tb = case typeOf op a b of
     b = strip tb
     quoted = "'" <> binOpSymbol op <> "'"
     isJust' = maybe False (const True)
+    -- NX-OP-23, NX-OP-30: policy bit-string-arithmetic
+    bitArithmetic = case (a, b) of
+      (TElem x, TElem y)
+        | x == y, isBitString x, op `elem` [BAdd, BSub, BMul, BDiv, BMod], pBitStringArithmetic pol == BitArithmeticYes -> Just a
+      _ -> Nothing
 
 -- | A subrange is its base type for the operators (TC-TYPE-29).
 strip :: Type -> Type

@@ -554,6 +554,7 @@ sectionP pol =
     , SecExternal <$ kw pol "VAR_EXTERNAL"
     , SecGlobal <$ kw pol "VAR_GLOBAL"
     , SecTemp <$ kw pol "VAR_TEMP"
+    , extensionP pol (SecStat <$ kw pol "VAR_STAT")
     , SecVar <$ kw pol "VAR"
     ]
 

@@ -97,6 +97,7 @@ data Section
   | SecExternal
   | SecGlobal
   | SecTemp
+  | SecStat -- ^ CODESYS: VAR_STAT, one copy per POU (NX-VAR-10)
   deriving (Eq, Ord, Show, Enum, Bounded)
 
 data VarBlock = VarBlock
