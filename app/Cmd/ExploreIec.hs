@@ -49,7 +49,7 @@ generated :: Int -> Int -> GenProgram
 generated size s = unGen genProgram (mkQCGen s) size
 
 reference :: Policies -> GenProgram -> Seen
-reference pol gp = case runProgram pol "explore.st" (renderProgram gp) ProgramsOfConfiguration 10 [] (replicate (gpCalls gp) []) of
+reference pol gp = case runProgram pol "explore.st" (renderProgram gp) ProgramsOfConfiguration 10 [] (replicate (gpCalls gp) (Scan [])) of
   Left e -> SeenRejected (veKind e <> ": " <> veMessage e)
   Right (Left e) -> SeenOther e
   Right (Right r) ->
@@ -102,7 +102,7 @@ exploreIec pol o = do
           request gp =
             Request protocolVersion "explore" "tecomat" (M.fromList (policyAssignments pol)) (renderProgram gp) "P"
               (PlcRequest (Declare M.empty M.empty) "" M.empty Nothing)
-              (replicate (gpCalls gp) (CallRequest (True, True, True) M.empty))
+              (replicate (gpCalls gp) (CallRequest (True, True, True) M.empty Nothing))
               (Observe [] observedPaths [] True) Nothing (Just "T#10ms")
           engineSeen gp = do
             a <- askEngine ropts (request gp)

@@ -104,7 +104,7 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
   Right cycle -> do
     let choice = maybe ProgramsOfConfiguration ProgramNamed (riProgram o)
         sets = [(p, toScalar v) | (p, v) <- riSets o]
-        calls = sets : replicate (max 0 (riCalls o - 1)) []
+        calls = Scan sets : replicate (max 0 (riCalls o - 1)) (Scan [])
     case runProgram pol file src choice cycle [] (if riCalls o <= 0 then [] else calls) of
       Left e -> do
         TIO.hPutStr stderr (renderError file src e)
@@ -186,7 +186,7 @@ evalIec pol snippet calls = do
 evalIecRows :: Policies -> Text -> Int -> Maybe [(Text, Text)]
 evalIecRows pol snippet calls =
   let src = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
-   in case runProgram pol "<snippet>" src ProgramsOfConfiguration 10 [] (replicate (max 1 calls) []) of
+   in case runProgram pol "<snippet>" src ProgramsOfConfiguration 10 [] (replicate (max 1 calls) (Scan [])) of
         Right (Right r) ->
           Just
             ( [(n, scalarText v) | (n, v) <- observedVariables r]

@@ -48,7 +48,7 @@ import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution (CallResult (..), PlcState (..))
 import Stref.IEC.Check (ProgramChoice (..))
-import Stref.IEC.Engine (RunResult (..), runProgram)
+import Stref.IEC.Engine (Call (..), RunResult (..), runProgram)
 import Stref.IEC.Eval (Stop (..))
 import Stref.Policy
 import Stref.Run
@@ -380,7 +380,7 @@ evaluateInput bytes = case decodeSource bytes of
                in (Ran codes, printed <> T.pack (show (roResults ro, psMemory (roFinal ro))))
     -- every input also goes through the IEC core (the tecomat dialect):
     -- parse, check, two cycles
-    iecPipeline src = case runProgram iecFuzzPolicies file src ProgramsOfConfiguration 10 [] [[], []] of
+    iecPipeline src = case runProgram iecFuzzPolicies file src ProgramsOfConfiguration 10 [] [Scan [], Scan []] of
       Left e -> veKind e <> veMessage e
       Right (Left t) -> t
       Right (Right r) -> T.pack (show (rrMachine r, fmap (\(k, StopFault p f) -> (k, p, f)) (rrError r), rrCycles r))

@@ -98,7 +98,7 @@ spec = describe "IEC.Engine" $ do
     it "renders values as ST literals" $
       map renderValue [VTime TIME 95000, VTod 23599999, VDate (12 * msPerDay), VString "a'b"] `shouldBe` ["T#1m35s", "TOD#06:33:19.999", "D#1970-01-13", "'a$'b'"]
     it "the IEC engine answers lifetime=per-call with unsupported: its state persists (TC-POU-15)" $ do
-      let rq = Request "stref-engine/1" "t" "tecomat" (M.fromList [("lifetime", "per-call")]) "PROGRAM MAIN\nEND_PROGRAM\n" "P" (PlcRequest (Declare M.empty M.empty) "" M.empty Nothing) [CallRequest (True, True, True) M.empty] (Observe [] [] [] True) Nothing Nothing
+      let rq = Request "stref-engine/1" "t" "tecomat" (M.fromList [("lifetime", "per-call")]) "PROGRAM MAIN\nEND_PROGRAM\n" "P" (PlcRequest (Declare M.empty M.empty) "" M.empty Nothing) [CallRequest (True, True, True) M.empty Nothing] (Observe [] [] [] True) Nothing Nothing
       case referenceEngine [] rq of
         AnswerUnsupported why -> why `shouldSatisfy` T.isInfixOf "per-call"
         other -> expectationFailure (show other)

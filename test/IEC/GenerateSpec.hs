@@ -23,7 +23,7 @@ data Outcome = Rejected Text | Failed Text | Ran (M.Map Text Scalar) (Maybe Text
   deriving (Eq, Show)
 
 outcome :: Policies -> GenProgram -> Outcome
-outcome pol gp = case runProgram pol "gen.st" (renderProgram gp) ProgramsOfConfiguration 10 [] (replicate (gpCalls gp) []) of
+outcome pol gp = case runProgram pol "gen.st" (renderProgram gp) ProgramsOfConfiguration 10 [] (replicate (gpCalls gp) (Scan [])) of
   Left e -> Rejected (veKind e <> ": " <> veMessage e)
   Right (Left e) -> Failed e
   Right (Right r) ->

@@ -24,7 +24,7 @@ runMain pol body n var = runUnit pol ("PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM
 -- | Run a whole unit (its only PROGRAM, or its configuration) for n cycles
 -- and read a variable path.
 runUnit :: Policies -> Text -> Int -> Text -> Either Text Value
-runUnit pol src n path = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] (replicate n []) of
+runUnit pol src n path = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] (replicate n (Scan [])) of
   Left e -> Left ("rejected: " <> veKind e <> ": " <> veMessage e)
   Right (Left e) -> Left e
   Right (Right r) -> case parseVarPath path of
@@ -32,11 +32,11 @@ runUnit pol src n path = case runProgram pol "t.st" src ProgramsOfConfiguration 
     Left e -> Left e
 
 rejectKind :: Policies -> Text -> Maybe (Text, Int)
-rejectKind pol src = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] [[]] of
+rejectKind pol src = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] [Scan []] of
   Left (VerificationError k (Pos l _) _) -> Just (k, l)
   _ -> Nothing
 
 errorOf :: Policies -> Text -> Int -> Maybe (Int, Text)
-errorOf pol body n = case runProgram pol "t.st" ("PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM\n") ProgramsOfConfiguration 10 [] (replicate n []) of
+errorOf pol body n = case runProgram pol "t.st" ("PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM\n") ProgramsOfConfiguration 10 [] (replicate n (Scan [])) of
   Right (Right r) -> (\(k, StopFault _ f) -> (k, faultKind f)) <$> rrError r
   _ -> Nothing

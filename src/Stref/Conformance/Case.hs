@@ -20,6 +20,7 @@ module Stref.Conformance.Case
   , ExpReject (..)
   , CaseOrigin (..)
   , IecSetup (..)
+  , IecCall (..)
   , iecScalar
   , parseCase
   , effectiveExpect
@@ -156,7 +157,15 @@ data IecSetup = IecSetup
   { iecProgram :: Maybe Text
   , iecCycle :: Text -- ^ a TIME literal, @T#10ms@ unless stated
   , iecInit :: [(Text, ExpValue)]
-  , iecCalls :: [[(Text, ExpValue)]]
+  , iecCalls :: [IecCall]
+  }
+  deriving (Eq, Show)
+
+-- | One entry of an IEC case's calls: a cycle after writing variables, or
+-- a reset of the controller that runs no cycle (docs/nexto.md).
+data IecCall = IecCall
+  { icSet :: [(Text, ExpValue)]
+  , icReset :: Maybe Text
   }
   deriving (Eq, Show)
 
@@ -390,12 +399,12 @@ parseCase file origin knownRule src = do
       program <- optional o "program" (fmap Just . text ["program"]) Nothing
       cycleText <- optional o "cycle" (text ["cycle"]) "T#10ms"
       initial <- optional o "plc" (\x -> objectWith ["plc"] ["init"] x >>= \po -> optional po "init" (iecValues ["plc", "init"]) []) []
-      calls <- optional o "calls" (iecCallsOf ["calls"]) [[]]
+      calls <- optional o "calls" (iecCallsOf ["calls"]) [IecCall [] Nothing]
       expect <- optional o "expect" (iecExpectOf ["expect"] iecExpectKeys) emptyExpect
       conds <- optional o "expect-if" (iecConditionals ["expect-if"]) []
       checkExpectations "kind" expect conds
       pure (caseOf (description, rules, features, status) expect conds)
-        { caseCalls = [CallSetup (True, True, True) [] | _ <- calls]
+        { caseCalls = [CallSetup (True, True, True) [] | IecCall _ Nothing <- calls]
         , caseIec = Just (IecSetup program cycleText initial calls)
         }
     iecTopKeys = ["description", "rules", "features", "status", "program", "cycle", "plc", "calls", "expect", "expect-if"]
@@ -403,18 +412,24 @@ parseCase file origin knownRule src = do
     iecCallsOf p = \case
       Number n -> do
         k <- integerIn p 1 1000000 n
-        pure (replicate (fromInteger k) [])
+        pure (replicate (fromInteger k) (IecCall [] Nothing))
       Array xs
         | V.null xs -> failAt p "calls must list at least one cycle"
         | otherwise -> fmap concat . forM (zip [0 :: Int ..] (V.toList xs)) $ \(i, x) -> case x of
             Number n -> do
               k <- integerIn (p ++ [idx i]) 1 1000000 n
-              pure (replicate (fromInteger k) [])
+              pure (replicate (fromInteger k) (IecCall [] Nothing))
             _ -> do
-              co <- objectWith (p ++ [idx i]) ["set"] x
+              co <- objectWith (p ++ [idx i]) ["set", "reset"] x
               set <- optional co "set" (iecValues (p ++ [idx i, "set"])) []
-              pure [set]
-      _ -> failAt p "calls must be a number of cycles or a list of numbers and {set: {...}}"
+              reset <- optional co "reset" (fmap Just . resetName (p ++ [idx i, "reset"])) Nothing
+              case (set, reset) of
+                (_ : _, Just _) -> failAt (p ++ [idx i]) "an entry either sets variables for a cycle or resets the controller, not both"
+                _ -> pure [IecCall set reset]
+      _ -> failAt p "calls must be a number of cycles or a list of numbers, {set: {...}} and {reset: warm|cold|origin|download}"
+    resetName p = \case
+      String t | t `elem` ["warm", "cold", "origin", "download"] -> pure t
+      _ -> failAt p "a reset is warm, cold, origin or download"
     iecValues p v = do
       o <- object' p v
       forM (KM.toList o) (\(k, x) -> (K.toText k,) <$> iecValue (p ++ [K.toText k]) x)

@@ -217,11 +217,14 @@ instance FromJSON PlcRequest where
 data CallRequest = CallRequest
   { callInputs :: (Bool, Bool, Bool)
   , callSet :: Map Text Scalar
+  , callReset :: Maybe Text
+  -- ^ IEC dialects: instead of a cycle, a reset of the controller
+  -- (@warm@, @cold@, @origin@, @download@; docs/nexto.md)
   }
   deriving (Eq, Show)
 
 instance ToJSON CallRequest where
-  toJSON (CallRequest (a, b, c) s) = object ["inputs" .= [a, b, c], "set" .= s]
+  toJSON (CallRequest (a, b, c) s r) = object (["inputs" .= [a, b, c], "set" .= s] ++ maybe [] (\x -> ["reset" .= x]) r)
 
 instance FromJSON CallRequest where
   parseJSON = withObject "call" $ \o -> do
@@ -229,7 +232,7 @@ instance FromJSON CallRequest where
     triple <- case ins of
       [a, b, c] -> pure (a, b, c)
       _ -> fail "inputs must list exactly three booleans (INPUT1..3)"
-    CallRequest triple <$> o .:? "set" .!= M.empty
+    CallRequest triple <$> o .:? "set" .!= M.empty <*> o .:? "reset"
 
 -- | What the runner will compare: the engine reports at least these.
 data Observe = Observe
@@ -288,7 +291,7 @@ instance FromJSON Request where
       <*> o .: "source"
       <*> o .:? "module" .!= "P"
       <*> o .: "plc"
-      <*> o .:? "calls" .!= [CallRequest (True, True, True) M.empty]
+      <*> o .:? "calls" .!= [CallRequest (True, True, True) M.empty Nothing]
       <*> o .:? "observe" .!= Observe [] [] [] True
       <*> o .:? "program"
       <*> o .:? "cycle"

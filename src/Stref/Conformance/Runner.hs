@@ -228,7 +228,7 @@ iecRequest pol c ex setup =
     , rqSource = caseSource c
     , rqModule = "P"
     , rqPlc = PlcRequest (Declare M.empty M.empty) "" (M.fromList [(k, iecScalar v) | (k, v) <- iecInit setup]) Nothing
-    , rqCalls = [CallRequest (True, True, True) (M.fromList [(k, iecScalar v) | (k, v) <- sets]) | sets <- iecCalls setup]
+    , rqCalls = [CallRequest (True, True, True) (M.fromList [(k, iecScalar v) | (k, v) <- icSet c]) (icReset c) | c <- iecCalls setup]
     , rqObserve = Observe [k | k <- M.keys (exVars ex), "%" `T.isPrefixOf` k] [k | k <- M.keys (exVars ex), not ("%" `T.isPrefixOf` k)] [] True
     , rqProgram = iecProgram setup
     , rqCycle = Just (iecCycle setup)
@@ -252,7 +252,7 @@ mastertoolRequest pol c ex =
           , prInit = M.fromList [(renderOperand op, expValueScalar op v) | (op, v) <- psInit plc]
           , prChf = fmap (uncurry ChfRequest) (psChf plc)
           }
-    , rqCalls = [CallRequest (csInputs k) (M.fromList [(renderOperand op, expValueScalar op v) | (op, v) <- csSet k]) | k <- caseCalls c]
+    , rqCalls = [CallRequest (csInputs k) (M.fromList [(renderOperand op, expValueScalar op v) | (op, v) <- csSet k]) Nothing | k <- caseCalls c]
     , rqObserve =
         Observe
           { obsOperands = map renderOperand (M.keys (exOperands ex))

@@ -87,7 +87,7 @@ explorationRequest pol calls caseId gm =
           , prInit = M.fromList [(renderOperand o, scalar v) | (o, v) <- gmInputs gm]
           , prChf = Nothing
           }
-    , rqCalls = replicate (max 1 calls) (CallRequest (True, True, True) M.empty)
+    , rqCalls = replicate (max 1 calls) (CallRequest (True, True, True) M.empty Nothing)
     , rqObserve = Observe (map renderOperand (observedOperands gm)) [] ["OUTPUT1", "OUTPUT2", "OUTPUT3"] True
     , rqProgram = Nothing
     , rqCycle = Nothing

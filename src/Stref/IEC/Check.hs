@@ -278,7 +278,7 @@ pouVariables p = do
   result <- case (pouKind p, pouResult p) of
     (KFunction, Just t) -> do
       ty <- resolveType t
-      pure [VarInfo (pouName p) (key (pouName p)) SecOutput ty (defaultValue ty) False Nothing Nothing (pouPos p)]
+      pure [VarInfo (pouName p) (key (pouName p)) SecOutput ty (defaultValue ty) False Nothing Nothing (pouPos p) Volatile]
     _ -> pure []
   -- NX-POU-44, NX-POU-45: a derived FB has its base's variables first, and
   -- declares none of their names again
@@ -329,13 +329,13 @@ memberSignatures p = do
       vs <- concat <$> mapM (blockVars (Just KMethod)) (mtVars m)
       result <- forM (mtResult m) $ \t -> do
         ty <- resolveType t
-        pure (VarInfo (mtName m) (key (mtName m)) SecOutput ty (defaultValue ty) False Nothing Nothing (mtPos m))
+        pure (VarInfo (mtName m) (key (mtName m)) SecOutput ty (defaultValue ty) False Nothing Nothing (mtPos m) Volatile)
       let all' = vs ++ maybe [] pure result
       either throwError pure (runExcept (checkDuplicates [(viPos v, viName v) | v <- all']))
       pure [(key (mtName m), (KMethod, all'))]
     MProperty pr -> do
       ty <- resolveType (prType pr)
-      let own sec = VarInfo (prName pr) (key (prName pr)) sec ty (defaultValue ty) False Nothing Nothing (prPos pr)
+      let own sec = VarInfo (prName pr) (key (prName pr)) sec ty (defaultValue ty) False Nothing Nothing (prPos pr) Volatile
       getter <- forM (prGet pr) $ \(blocks, _) -> do
         vs <- concat <$> mapM (blockVars (Just KMethod)) blocks
         pure (getterKey (prName pr), (KMethod, vs ++ [own SecOutput]))
@@ -375,14 +375,24 @@ blockVars kind b = do
   let constantSections = [SecVar, SecGlobal] ++ [SecInput | pExtensions pol == ExtensionsCodesys] -- NX-VAR-2
   when (vbConstant b && vbSection b `notElem` constantSections) $
     failC "section-not-allowed" (vbPos b) ("CONSTANT is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-19..25)")
-  when (vbRetain b && vbSection b `notElem` [SecVar, SecGlobal]) $
+  -- NX-VAR-1: CODESYS also keeps inputs and outputs of an FB (VAR_INPUT RETAIN)
+  let retainSections = [SecVar, SecGlobal] ++ [s | pExtensions pol == ExtensionsCodesys, s <- [SecInput, SecOutput]]
+  when (vbRetain b && vbSection b `notElem` retainSections) $
     failC "section-not-allowed" (vbPos b) ("RETAIN is not allowed on " <> sectionName (vbSection b) <> " (TC-VAR-26)")
   when (isNothing kind && vbSection b /= SecGlobal) $
     failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is only allowed inside a POU")
-  concat <$> forM (vbDecls b) (declVars kind (vbSection b) (vbConstant b))
+  -- NX-VAR-20..23, NX-PRAGMA-9: how the block's variables live over resets
+  let blockRetention
+        | vbPersistent b = Persistent
+        | vbRetain b = RetainOverWarm
+        | otherwise = Volatile
+      retentionOf d
+        | any (`elem` ["no_init", "noinit", "no-init"]) (map fst (vdAttributes d ++ vbAttributes b)) = NoInit
+        | otherwise = blockRetention
+  concat <$> forM (vbDecls b) (\d -> declVars kind (vbSection b) (vbConstant b) (retentionOf d) d)
 
-declVars :: Maybe PouKind -> Section -> Bool -> VarDecl -> C [VarInfo]
-declVars kind sec constant d = do
+declVars :: Maybe PouKind -> Section -> Bool -> Retention -> VarDecl -> C [VarInfo]
+declVars kind sec constant retention d = do
   pol <- asks envPol
   forM_ (vdNames d) $ \(p, n) -> when (reservedName pol n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
   ty <- resolveType (vdType d)
@@ -391,6 +401,11 @@ declVars kind sec constant d = do
     case ty of
       TFB _ | kind == Just KFunction, sec `elem` [SecVar, SecTemp, SecStat] ->
         failC "instance-in-function" (vdPos d) "a FUNCTION cannot declare a function block instance (NX-POU-10)"
+      _ -> pure ()
+    -- NX-TYPE-17: BIT only in function blocks and structures
+    case vdType d of
+      TSName tp n | key n == "BIT", kind /= Just KFunctionBlock ->
+        failC "section-not-allowed" tp "a BIT is declared only in a function block or a structure (NX-TYPE-17)"
       _ -> pure ()
     -- NX-TYPE-58: an enumeration is declared with TYPE only
     case vdType d of
@@ -422,8 +437,8 @@ declVars kind sec constant d = do
   base <- resolveDefault (vdType d)
   initV <- maybe (pure base) (initialValue ty base) (vdInit d)
   case vdNames d of
-    [] -> pure [VarInfo (maybe "" locText (vdAt d)) (maybe "" locText (vdAt d)) sec ty initV constant (vdAt d) Nothing (vdPos d)]
-    ns -> pure [VarInfo n (key n) sec ty initV constant (vdAt d) (vdEdge d) p | (p, n) <- ns]
+    [] -> pure [VarInfo (maybe "" locText (vdAt d)) (maybe "" locText (vdAt d)) sec ty initV constant (vdAt d) Nothing (vdPos d) retention]
+    ns -> pure [VarInfo n (key n) sec ty initV constant (vdAt d) (vdEdge d) p retention | (p, n) <- ns]
 
 -- | The initial value of a type as declared: a TYPE's own initial value,
 -- the initial values of a structure's fields, the type's default otherwise
@@ -477,6 +492,10 @@ resolveType :: TypeSpec -> C Type
 resolveType = \case
   TSName p n -> case parseElemName n of
     Just e -> pure (TElem e)
+    Nothing | key n == "BIT" -> do
+      -- NX-TYPE-17: CODESYS's BIT holds TRUE or FALSE, a BOOL to the program
+      pol <- asks envPol
+      if pExtensions pol == ExtensionsCodesys then pure (TElem BOOL) else failC "undeclared-type" p "the type BIT is not declared"
     Nothing -> do
       types <- asks envTypes
       pous <- asks envPous
@@ -884,6 +903,7 @@ checkRef = \case
         ce <- checkExprAt (Just (TElem DINT)) i
         pure (CCharAt w ref ce, TElem (if w then WORD else BYTE), access)
       _ -> failC "type-mismatch" p (typeText ty <> " is not an array")
+  EBit p base i -> bitOf p base i
   EDeref p (EThis _) -> do
     -- NX-POU-28: THIS^ is the instance the code runs on
     self <- asks envSelf
@@ -916,12 +936,28 @@ listedGlobal p n = do
   when qualifiedOnly $ failC "qualified-only" p ("the global list of " <> n <> " is qualified_only: write its name before the variable, GVL." <> n <> " (NX-PRAGMA-10)")
   when ambiguous $ failC "ambiguous-name" p ("several global lists declare " <> n <> "; write the list's name before it (NX-LEX-9)")
 
+-- | NX-OP-92..96: bit i of an integer variable, a BOOL; the types SINT,
+-- INT, DINT, USINT, UINT, UDINT, BYTE, WORD, DWORD; i below the width.
+bitOf :: Pos -> Expr -> Integer -> C (CRef, Type, Access)
+bitOf p base i = do
+  (ref, ty, access) <- checkRef base
+  case baseElem ty of
+    Just e
+      | e `elem` [SINT, INT, DINT, USINT, UINT, UDINT, BYTE, WORD, DWORD] -> do
+          when (i < 0 || i >= toInteger (intBits e)) $
+            failC "bit-index-out-of-range" p ("the index " <> T.pack (show i) <> " lies outside the bits 0.." <> T.pack (show (intBits e - 1)) <> " of " <> typeText ty <> " (NX-OP-95)")
+          pure (CBit ref (fromInteger i), TElem BOOL, access)
+    _ -> failC "invalid-bit-access" p ("a bit is taken of SINT, INT, DINT, USINT, UINT, UDINT, BYTE, WORD or DWORD, not of " <> typeText ty <> " (NX-OP-94, NX-OP-96)")
+
 -- | A field of a structure or a variable of an FB instance, with the
 -- access rules (TC-POU-23..25).
 fieldOf :: Pos -> Expr -> Text -> C (CRef, Type, Access)
 fieldOf p base f = do
   (ref, ty, access) <- checkRef base
+  pol <- asks envPol
+  constant <- if pExtensions pol == ExtensionsCodesys then namedConstant f else pure Nothing
   case ty of
+    _ | Just i <- constant, Just _ <- baseElem ty -> bitOf p base i -- NX-OP-92: the index may be a named constant
     TStruct _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
       Just t -> pure (CField ref (key f), t, access)
       Nothing -> failC "undeclared-variable" p ("the structure " <> typeText ty <> " has no field " <> f)
@@ -948,6 +984,15 @@ fieldOf p base f = do
       EDeref _ (EThis _) -> True
       EDeref _ (ESuper _) -> True
       _ -> False
+
+-- | The value of a named integer constant (a local or global CONSTANT).
+namedConstant :: Text -> C (Maybe Integer)
+namedConstant n = do
+  locals <- asks envLocals
+  globals <- asks envGlobals
+  pure $ case M.lookup (key n) locals <|> M.lookup (key n) globals of
+    Just v | viConstant v, VInt _ i <- viInit v -> Just i
+    _ -> Nothing
 
 -- | The type of the instance a POU's code runs on.
 selfType :: Pos -> Text -> C Type
@@ -1238,6 +1283,7 @@ infer expected = \case
       Just (ref, d, ty, _) -> fixed p ty (CMethod d ref [] [] [])
       Nothing -> readRef e
   e@EDeref {} -> readRef e
+  e@EBit {} -> readRef e
   e@EGlobalScope {} -> readRef e
   EInvoke p callee args -> do
     r <- memberCall p callee args
@@ -1620,6 +1666,9 @@ bindArgs p callee vars args = do
   inouts <- fmap catMaybes $ forM named $ \(k, a) -> case (a, find ((== k) . viKey) vars) of
     (Left e, Just v) | viSection v == SecInOut -> do
       (ref, ty) <- checkTarget e
+      case ref of
+        CBit {} -> failC "invalid-bit-access" (exprPos e) ("a bit cannot be passed to the VAR_IN_OUT " <> viName v <> " (NX-OP-97)")
+        _ -> pure ()
       -- TC-VAR-3, TC-VAR-4: by reference, so the very type (a STRING's
       -- capacity, a subrange's bounds)
       unless (ty == viType v) (failC "type-mismatch" (exprPos e) ("the in-out parameter " <> viName v <> " takes a variable of type " <> typeText (viType v) <> ", not " <> typeText ty))

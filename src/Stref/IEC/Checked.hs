@@ -6,6 +6,7 @@ module Stref.IEC.Checked
   , PouDef (..)
   , Body (..)
   , VarInfo (..)
+  , Retention (..)
   , CExpr (..)
   , CNode (..)
   , CRef (..)
@@ -55,7 +56,13 @@ data VarInfo = VarInfo
   , viAt :: Maybe Location
   , viEdge :: Maybe EdgeQualifier
   , viPos :: Pos
+  , viRetention :: Retention -- ^ what a reset of the controller does to it (NX-VAR-21, NX-VAR-22)
   }
+
+-- | CODESYS: a variable's life over the controller's resets (Table 4-4):
+-- VAR RETAIN, VAR PERSISTENT, the attribute no_init (NX-PRAGMA-9).
+data Retention = Volatile | RetainOverWarm | Persistent | NoInit
+  deriving (Eq, Show)
 
 varByKey :: PouDef -> Text -> Maybe VarInfo
 varByKey p k = M.lookup k (pdVarMap p)
@@ -127,6 +134,7 @@ data CRef
   | CIndex CRef [CExpr] -- ^ an array element
   | CLocated Location Type -- ^ a direct address read as a type
   | CProgram Text -- ^ CODESYS: a program's instance, by key (NX-POU-3)
+  | CBit CRef Int -- ^ CODESYS: a bit of an integer variable (NX-OP-92, NX-OP-93)
   | CThis -- ^ the instance a function block's body, method or action runs on (NX-POU-28)
   | CDeref CExpr Type -- ^ CODESYS: what a pointer points at, of the pointer's base type (NX-TYPE-75)
   | CCharAt Bool CRef CExpr -- ^ CODESYS: @s[i]@ (True: a WSTRING), the code of a STRING's (WSTRING's) character i, from 0 (NX-TYPE-77)

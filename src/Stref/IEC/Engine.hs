@@ -4,6 +4,7 @@
 module Stref.IEC.Engine
   ( iecEngine
   , runProgram
+  , Call (..)
   , RunResult (..)
   , parseVarPath
   , observedTypes
@@ -46,17 +47,23 @@ cycleMillis pol t = case parseUnitExpr pol t of
   Right (ELit _ (LTime ns)) | ns > 0 -> Right (ns `div` 1000000)
   _ -> Left ("the cycle '" <> t <> "' is not a positive TIME literal such as T#10ms")
 
+-- | What happens between two observations: a scan cycle after writing
+-- variables, or a reset of the controller (docs/nexto.md).
+data Call = Scan [(Text, Scalar)] | Reset ResetEvent
+  deriving (Eq, Show)
+
 -- | Run a source over cycles; each cycle first writes its variables (paths
 -- and values), then runs the programs at clock (k-1) × cycle (§4.1). After a
 -- runtime error, policy @after-error@ decides whether later cycles run.
-runProgram :: Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [[(Text, Scalar)]] -> Either VerificationError (Either Text RunResult)
+runProgram :: Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text RunResult)
 runProgram pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
   pure $ do
     m0 <- foldM (setPath pol prog) (initialMachine prog) initial
     let go m k err [] = Right (RunResult prog m err (k - 1))
-        go m k err (sets : rest) = do
+        go m k err (Reset ev : rest) = go (resetMachine ev prog m) k err rest
+        go m k err (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
           let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) m1
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
@@ -132,7 +139,7 @@ iecEngine pol rq = either AnswerUnsupported id $ do
   cycle <- cycleMillis pol (maybe "T#10ms" id (rqCycle rq))
   let choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
       initial = M.toList (prInit (rqPlc rq))
-      calls = [M.toList (callSet c) | c <- rqCalls rq]
+  calls <- mapM callOf (rqCalls rq)
   case runProgram pol (T.unpack (rqCase rq)) (rqSource rq) choice cycle initial calls of
     Left (VerificationError k (Pos l _) msg) -> Right (AnswerRejected (Just l) (Just k) msg)
     Right (Left e) -> Left e
@@ -142,6 +149,9 @@ iecEngine pol rq = either AnswerUnsupported id $ do
           ob = Observation M.empty vars M.empty err
        in Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob)
   where
+    callOf c = case callReset c of
+      Nothing -> Right (Scan (M.toList (callSet c)))
+      Just r -> maybe (Left ("the reset '" <> r <> "' is none of warm, cold, origin, download")) (Right . Reset) (lookup r resetEvents)
     observe r p
       | "%" `T.isPrefixOf` p = case locationOf pol p of
           Right l -> Just (valueScalar (readLocatedVar l (locationType l) (rrMachine r)))

@@ -11,6 +11,9 @@ module Stref.IEC.Eval
   , readLocatedVar
   , writeLocatedVar
   , Stop (..)
+  , ResetEvent (..)
+  , resetEvents
+  , resetMachine
   ) where
 
 import Control.Monad (forM, forM_, unless, when)
@@ -86,6 +89,43 @@ initialMachine prog =
       -- initial value of another variable at the same bytes
       memory = foldl (\m (l, t, v) -> writeLocated l t v m) M.empty [x | x@(_, t, v) <- located, v /= defaultValue t]
    in Machine globals programs M.empty memory 0 0
+
+-- | The controller's resets of Table 4-4 (NX-VAR-21, NX-VAR-22).
+data ResetEvent = WarmReset | ColdReset | OriginReset | Download
+  deriving (Eq, Show)
+
+-- | Their names in a case's calls (docs/nexto.md).
+resetEvents :: [(Text, ResetEvent)]
+resetEvents = [("warm", WarmReset), ("cold", ColdReset), ("origin", OriginReset), ("download", Download)]
+
+-- | A reset between cycles: every variable takes its initial value again
+-- unless its retention keeps it over this event (Table 4-4): RETAIN over
+-- a warm reset, PERSISTENT over warm and cold resets and a download; a
+-- no_init variable over warm and cold resets (NX-PRAGMA-9, NX-VAR-30).
+-- Inside an instance each variable is kept or not by its own declaration
+-- (NX-VAR-23); an instance declared RETAIN keeps all of it.
+resetMachine :: ResetEvent -> Program -> Machine -> Machine
+resetMachine ev prog m =
+  m
+    { mGlobals = M.mapWithKey (\k v -> maybe v (`resetVar` v) (find ((== k) . viKey) (prGlobals prog))) (mGlobals m)
+    , mPrograms = M.map resetInstance (mPrograms m)
+    , mFrames = M.empty
+    }
+  where
+    keeps = \case
+      Volatile -> False
+      RetainOverWarm -> ev == WarmReset
+      Persistent -> ev `elem` [WarmReset, ColdReset, Download]
+      NoInit -> ev `elem` [WarmReset, ColdReset]
+    resetVar vi v
+      | keeps (viRetention vi) = v
+      | otherwise = case v of
+          VInstance {} -> resetInstance v
+          _ -> viInit vi
+    resetInstance = \case
+      VInstance t fs | Just d <- lookupPou prog t ->
+        VInstance t (M.mapWithKey (\k x -> maybe x (`resetVar` x) (varByKey d k)) fs)
+      v -> v
 
 -- | One scan cycle at the given clock: each program instance in order.
 runCycle :: Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
@@ -580,6 +620,7 @@ refPath p = \case
       VInt _ n -> pure (extend base (StepChar w n))
       _ -> pure base
   CProgram k -> pure (RefPath (RootProgram k) [])
+  CBit r i -> (`extend` StepBit i) <$> refPath p r
   CThis -> asks cxThis
   CInstance k -> do
     this <- asks cxThis
@@ -658,6 +699,7 @@ walk (s : rest) v = case (s, v) of
   (StepField f, VStruct fs) -> M.lookup f fs >>= walk rest
   (StepField f, VInstance _ fs) -> M.lookup f fs >>= walk rest
   (StepIndex is, VArray bs xs) -> Seq.lookup (linearIndex bs is) xs >>= walk rest
+  (StepBit i, VInt e n) -> walk rest (VBool (testBit (n `mod` (2 ^ intBits e)) i))
   (StepChar w i, VString str) -> walk rest (VInt (if w then WORD else BYTE) (if i >= 0 && i < toInteger (T.length str) then toInteger (ord (T.index str (fromInteger i))) else 0))
   _ -> Nothing
 
@@ -671,6 +713,10 @@ putPath (RefPath r steps) v = modify' $ \m -> case rootValue r m of
       (StepField f, VStruct fs) -> VStruct (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
       (StepField f, VInstance n fs) -> VInstance n (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
       (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+      -- NX-OP-93: a bit set or cleared, the rest of the integer kept
+      (StepBit i, VInt e n) | VBool b <- v ->
+        let u = n `mod` (2 ^ intBits e)
+         in VInt e (wrapInt e (if b then setBit u i else clearBit u i))
       -- NX-TYPE-77: writing a character inside the string; beyond its end
       -- nothing changes
       (StepChar _ i, VString str) | i >= 0 && i < toInteger (T.length str), VInt _ c <- v ->
@@ -817,6 +863,7 @@ readVariablePath prog m = readPath . throughList prog
         TArray _ et -> typeAt et more
         _ -> Nothing
       StepChar w _ : more -> typeAt (TElem (if w then WORD else BYTE)) more
+      StepBit _ : more -> typeAt (TElem BOOL) more
 
 -- | A path that starts with a named global list's name, @GVL.x@, to the
 -- variable as it is stored (NX-VAR-35).
@@ -850,6 +897,10 @@ writeVariablePath prog m steps0 v = case throughList prog steps0 of
       (StepField f, VStruct fs) -> VStruct (M.adjust (update rest) f fs)
       (StepField f, VInstance n fs) -> VInstance n (M.adjust (update rest) f fs)
       (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+      -- NX-OP-93: a bit set or cleared, the rest of the integer kept
+      (StepBit i, VInt e n) | VBool b <- v ->
+        let u = n `mod` (2 ^ intBits e)
+         in VInt e (wrapInt e (if b then setBit u i else clearBit u i))
       -- NX-TYPE-77: writing a character inside the string; beyond its end
       -- nothing changes
       (StepChar _ i, VString str) | i >= 0 && i < toInteger (T.length str), VInt _ c <- v ->

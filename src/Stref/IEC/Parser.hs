@@ -985,14 +985,19 @@ postfix pol = go
       m <-
         optional $
           choice
-            [ Left <$> (symbol pol "[" *> expr pol `sepBy1` symbol pol "," <* symbol pol "]")
-            , Right . Left <$> try (symbol pol "." *> name pol)
-            , Right (Right Nothing) <$ extensionP pol (symbol pol "^")
-            , Right . Right . Just <$> extensionP pol (try (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")") <* notFollowedBy (symbol pol ":="))
+            [ PIndex <$> (symbol pol "[" *> expr pol `sepBy1` symbol pol "," <* symbol pol "]")
+            , -- NX-OP-92: x.3 and x.%X3, a bit of an integer
+              PBit <$> extensionP pol (try (lexeme pol (char '.' *> optional (string' "%X") *> (readIn 10 <$> digitsIn 10))))
+            , PField <$> try (symbol pol "." *> name pol)
+            , PDeref <$ extensionP pol (symbol pol "^")
+            , PCall <$> extensionP pol (try (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")") <* notFollowedBy (symbol pol ":="))
             ]
       case m of
         Nothing -> pure acc
-        Just (Left ix) -> go (EIndex p acc ix)
-        Just (Right (Left f)) -> go (EField p acc f)
-        Just (Right (Right Nothing)) -> go (EDeref p acc)
-        Just (Right (Right (Just args))) -> go (EInvoke p acc args)
+        Just (PIndex ix) -> go (EIndex p acc ix)
+        Just (PBit b) -> go (EBit p acc b)
+        Just (PField f) -> go (EField p acc f)
+        Just PDeref -> go (EDeref p acc)
+        Just (PCall args) -> go (EInvoke p acc args)
+
+data Postfix = PIndex [Expr] | PBit Integer | PField Name | PDeref | PCall [Arg]

@@ -38,8 +38,8 @@ standardFBs pol =
   ]
   where
     fb n vars hidden meaning =
-      let infos = [VarInfo v v s t (defaultValue t) False Nothing Nothing noP | (v, s, t) <- vars]
-          hiddenInfos = [VarInfo h h SecVar (TElem BOOL) v False Nothing Nothing noP | (h, v) <- hidden]
+      let infos = [VarInfo v v s t (defaultValue t) False Nothing Nothing noP Volatile | (v, s, t) <- vars]
+          hiddenInfos = [VarInfo h h SecVar (TElem BOOL) v False Nothing Nothing noP Volatile | (h, v) <- hidden]
           allVars = infos ++ hiddenInfos
        in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noP Nothing True M.empty)
     noP = Pos 0 0

@@ -287,6 +287,7 @@ data Expr
   | EDeref Pos Expr -- ^ CODESYS: @p^@ (NX-TYPE-75), @THIS^@, @SUPER^@
   | EInvoke Pos Expr [Arg] -- ^ a call of what an expression names: @inst.m(..)@, @p^.m()@, @SUPER^()@
   | EGlobalScope Pos Name -- ^ CODESYS: @.name@, the global (NX-OP-88, NX-VAR-34)
+  | EBit Pos Expr Integer -- ^ CODESYS: @x.3@, a bit of an integer (NX-OP-92)
   | EThis Pos -- ^ CODESYS: @THIS@, a pointer to the running FB instance (NX-POU-28)
   | ESuper Pos -- ^ CODESYS: @SUPER@, that instance as its base FB (NX-POU-46)
   deriving (Eq, Show)
@@ -358,6 +359,7 @@ exprPos = \case
   EInvoke p _ _ -> p
   EGlobalScope p _ -> p
   EThis p -> p
+  EBit p _ _ -> p
   ESuper p -> p
 
 stmtPos :: Stmt -> Pos

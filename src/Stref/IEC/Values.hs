@@ -65,6 +65,7 @@ data Root
 data Step
   = StepField !Text
   | StepIndex ![Integer]
+  | StepBit !Int -- ^ CODESYS: a bit of an integer, from 0 (NX-OP-92)
   | StepChar !Bool !Integer -- ^ a character of a STRING (False) or WSTRING (True), from 0, as its code
   deriving (Eq, Ord, Show)
 
