@@ -314,16 +314,16 @@ spec = do
   describe "conversions (TC-CONV-6..18)" $ do
     let conv p from to = convert p (TElem from) (TElem to)
     it "names" $ do
-      conversionName "INT_TO_REAL" `shouldBe` Just (INT, REAL)
-      conversionName "DATE_AND_TIME_TO_TIME_OF_DAY" `shouldBe` Just (DT, TOD)
-      conversionName "dt_to_date" `shouldBe` Just (DT, DATE)
-      conversionName "TIME_TO_DINT" `shouldBe` Just (TIME, DINT)
-      conversionName "INT_TO_INT" `shouldBe` Nothing
-      conversionName "DATE_TO_INT" `shouldBe` Nothing
-      conversionName "STRING_TO_INT" `shouldBe` Nothing
-      conversionFunction "STRING_TO_INT" `shouldBe` Just (Convert CString (CElem INT))
-      conversionFunction "BCD_TO_INT" `shouldBe` Just (BcdToInt Nothing INT)
-      conversionFunction "INT_TO_BCD_WORD" `shouldBe` Just (IntToBcd INT (Just WORD))
+      conversionName p0 "INT_TO_REAL" `shouldBe` Just (INT, REAL)
+      conversionName p0 "DATE_AND_TIME_TO_TIME_OF_DAY" `shouldBe` Just (DT, TOD)
+      conversionName p0 "dt_to_date" `shouldBe` Just (DT, DATE)
+      conversionName p0 "TIME_TO_DINT" `shouldBe` Just (TIME, DINT)
+      conversionName p0 "INT_TO_INT" `shouldBe` Nothing
+      conversionName p0 "DATE_TO_INT" `shouldBe` Nothing
+      conversionName p0 "STRING_TO_INT" `shouldBe` Nothing
+      conversionFunction p0 "STRING_TO_INT" `shouldBe` Just (Convert CString (CElem INT))
+      conversionFunction p0 "BCD_TO_INT" `shouldBe` Just (BcdToInt Nothing INT)
+      conversionFunction p0 "INT_TO_BCD_WORD" `shouldBe` Just (IntToBcd INT (Just WORD))
     it "INT_TO_SINT(300) is 44 under narrow-int=wrap, 127 under saturate (TC-CONV-13)" $ do
       conv p0 INT SINT (int 300) `shouldBe` Right (sint 44)
       conv p0 {pNarrowInt = NarrowSaturate} INT SINT (int 300) `shouldBe` Right (sint 127)

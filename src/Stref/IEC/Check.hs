@@ -91,7 +91,7 @@ standardFunctionNames =
 reservedName :: Policies -> Text -> Bool
 reservedName pol n =
   let u = key n
-   in isJust (parseElemName u) || isJust (conversionName u)
+   in isJust (parseElemName u) || isJust (conversionName pol u)
         || case pReservedNames pol of
           ReservedIec ->
             u `elem` standardFunctionNames || u `elem` standardFBNames || u `elem` standardParameterNames
@@ -1309,9 +1309,10 @@ infer expected = \case
 isUserFunction :: Text -> C Bool
 isUserFunction f = do
   pous <- asks envPous
+  pol <- asks envPol
   pure $ case M.lookup (key f) pous of
     Just pou -> pouKind pou == KFunction
-    Nothing -> key f `elem` standardFunctionNames || isJust (conversionName (key f))
+    Nothing -> key f `elem` standardFunctionNames || isJust (conversionName pol (key f))
 
 fixed :: Pos -> Type -> CNode -> C TExpr
 fixed p t n = pure (CExpr p t n, Fixed)
@@ -1477,7 +1478,7 @@ typeHint depth e
       EBin _ o x y
         | o `elem` [BLt, BGt, BLe, BGe, BEq, BNe] -> pure (Just (TElem BOOL))
         | otherwise -> typeHint (depth - 1) x >>= maybe (typeHint (depth - 1) y) (pure . Just)
-      ECall _ f args -> case conversionName (key f) of
+      ECall _ f args -> asks envPol >>= \pol -> case conversionName pol (key f) of
         Just (_, to) -> pure (Just (TElem to))
         Nothing -> do
           pous <- asks envPous
@@ -1554,7 +1555,7 @@ callStandard expected p f args = do
   pol <- asks envPol
   pous <- asks envPous
   let k = key f
-  case conversionName k of
+  case conversionName pol k of
     Just (from, to) -> do -- TC-CONV-6
       a <- positionalOnly
       case a of
@@ -1582,8 +1583,8 @@ callStandard expected p f args = do
             case standardType pol k (map ceType cs) of
               Nothing -> failC "undeclared-function" p ("the function " <> f <> " is not declared")
               Just (Left msg)
-                | Just names <- standardParameters k (length cs), length cs > length names -> failC "too-many-arguments" p msg
-                | Just names <- standardParameters k (length cs), length cs < length names -> failC "too-few-arguments" p msg
+                | Just names <- standardParameters pol k (length cs), length cs > length names -> failC "too-many-arguments" p msg
+                | Just names <- standardParameters pol k (length cs), length cs < length names -> failC "too-few-arguments" p msg
                 | otherwise -> failC "type-mismatch" p msg
               Just (Right t) -> fixed p t (CStandard k cs)
   where
@@ -1600,7 +1601,8 @@ callStandard expected p f args = do
         ArgOutput ap _ _ -> failC "not-a-function-block" ap "=> binds outputs of function blocks only"
       formal -> do
         when (length formal /= length args) (failC "mixed-arguments" p ("the call of " <> f <> " mixes formal and positional arguments (TC-POU-12)"))
-        case standardParameters (key f) (length formal) of
+        pol <- asks envPol
+        case standardParameters pol (key f) (length formal) of
           Nothing -> pure [e | ArgInput _ _ e <- formal]
           Just names -> forM names $ \n -> case [e | ArgInput _ m e <- formal, key m == n] of
             [e] -> pure e
@@ -1694,6 +1696,7 @@ bindArgs p callee vars args = do
 checkCallStmt :: Pos -> Expr -> [Arg] -> C CStmt
 checkCallStmt p callee args = do
   pous <- asks envPous
+  pol <- asks envPol
   member' <- case callee of
     EDeref _ (ESuper _) -> pure Nothing
     _ -> memberCall p callee args
@@ -1705,7 +1708,7 @@ checkCallStmt p callee args = do
       vars <- fbVars b
       (ins, inouts, outs) <- bindArgs p b vars args
       pure (CCallFB p (FBCall CThis (key b) ins inouts outs))
-    EVar _ n | isFunctionName pous n -> do
+    EVar _ n | isFunctionName pol pous n -> do
       locals <- asks envLocals
       if M.member (key n) locals
         then fbCall
@@ -1714,9 +1717,9 @@ checkCallStmt p callee args = do
           pure (CEval p ce)
     _ -> fbCall
   where
-    isFunctionName pous n = case M.lookup (key n) pous of
+    isFunctionName pol pous n = case M.lookup (key n) pous of
       Just pou -> pouKind pou == KFunction
-      Nothing -> key n `elem` standardFunctionNames || isJust (conversionName (key n))
+      Nothing -> key n `elem` standardFunctionNames || isJust (conversionName pol (key n))
     fbCall = do
       pous' <- asks envPous
       case callee of

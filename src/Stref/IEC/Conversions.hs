@@ -4,6 +4,13 @@
 -- conversions (TC-CONV-8, TC-CONV-9). Which names exist, their typing, and
 -- their meaning under the policies @narrow-int@ and @real-to-int@.
 --
+-- Under @standard-library = codesys@ the conversions are CODESYS's (Nexto
+-- catalogue §3.2): the time types are the numbers the controller stores
+-- (TIME and TOD milliseconds, LTIME nanoseconds, DATE and DT seconds since
+-- 1970, NX-CONV-26, NX-CONV-29), so they convert to and from BOOL and every
+-- number; STRING converts to them from their literals (NX-CONV-33);
+-- TRUNC_INT (NX-CONV-36), ANY_TO_Y and ANY_NUM_TO_Y (NX-CONV-38) exist.
+--
 -- 'convert' is the meaning of one conversion between two types; the
 -- checker also uses it for the conversions it inserts itself.
 module Stref.IEC.Conversions
@@ -14,12 +21,14 @@ module Stref.IEC.Conversions
   , conversionFunction
   , isConversionName
   , truncName
+  , codesysConversions
     -- * Typing
   , conversionType
     -- * Meaning
   , conversion
   , convert
   , trunc
+  , truncTo
   , bcdToInt
   , intToBcd
   , narrowInt
@@ -41,6 +50,7 @@ import qualified Data.Text as T
 import GHC.Float (double2Float, float2Double)
 import Numeric (floatToDigits)
 import Stref.IEC.Operators (finite, illTyped, realOverflowFrom)
+import Stref.IEC.Parser (timeLiteral)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -56,6 +66,8 @@ data ConvType = CElem Elem | CString
 data Conversion
   = Convert ConvType ConvType -- ^ @X_TO_Y@ (TC-CONV-6)
   | Trunc -- ^ @TRUNC@: ANY_REAL to DINT (TC-CONV-7)
+  | TruncInt -- ^ CODESYS: @TRUNC_INT@, ANY_REAL to INT (NX-CONV-36)
+  | AnyTo Bool ConvType -- ^ CODESYS: @ANY_TO_Y@ (False) or @ANY_NUM_TO_Y@ (True) (NX-CONV-38)
   | BcdToInt (Maybe Elem) Elem -- ^ @BCD_TO_Y@ (any bit string) or @X_BCD_TO_Y@ (TC-CONV-8)
   | IntToBcd Elem (Maybe Elem) -- ^ @X_TO_BCD@ (the bit string of X's width) or @X_TO_BCD_Y@ (TC-CONV-9)
   deriving (Eq, Show)
@@ -64,32 +76,45 @@ data Conversion
 truncName :: Text
 truncName = "TRUNC"
 
+-- | Are the conversions CODESYS's (policy @standard-library@)?
+codesysConversions :: Policies -> Bool
+codesysConversions p = pStandardLibrary p == LibraryCodesys
+
 -- | An @X_TO_Y@ name between two elementary types, case-insensitive, with
 -- the long spellings TIME_OF_DAY and DATE_AND_TIME
 -- (@DATE_AND_TIME_TO_TIME_OF_DAY@ = @DT_TO_TOD@, TC-CONV-10, TC-CONV-11).
 -- 'Nothing' for every other name, also for the conversions that involve
 -- STRING, TRUNC or BCD ('conversionFunction' knows those).
-conversionName :: Text -> Maybe (Elem, Elem)
-conversionName n = case conversionFunction n of
+conversionName :: Policies -> Text -> Maybe (Elem, Elem)
+conversionName p n = case conversionFunction p n of
   Just (Convert (CElem x) (CElem y)) -> Just (x, y)
   _ -> Nothing
 
 -- | Any conversion function: @X_TO_Y@ for the pairs of 'convertible',
--- @TRUNC@, @BCD_TO_Y@, @X_BCD_TO_Y@, @X_TO_BCD@, @X_TO_BCD_Y@.
-conversionFunction :: Text -> Maybe Conversion
-conversionFunction name
+-- @TRUNC@, @BCD_TO_Y@, @X_BCD_TO_Y@, @X_TO_BCD@, @X_TO_BCD_Y@; under
+-- @standard-library = codesys@ also @TRUNC_INT@, @ANY_TO_Y@ and
+-- @ANY_NUM_TO_Y@.
+conversionFunction :: Policies -> Text -> Maybe Conversion
+conversionFunction p name
   | n == truncName = Just Trunc
+  | codesys && n == "TRUNC_INT" = Just TruncInt -- NX-CONV-36
+  | codesys, Just y <- T.stripPrefix "ANY_NUM_TO_" n = AnyTo True <$> (side y >>= \t -> t <$ guard (numberSide t)) -- NX-CONV-38
+  | codesys, Just y <- T.stripPrefix "ANY_TO_" n = AnyTo False <$> side y -- NX-CONV-38
   | otherwise = case T.splitOn "_TO_" n of
       [a, b] -> plain a b <|> fromBcd a b <|> toBcd a b
       _ -> Nothing
   where
     n = T.toUpper name
+    codesys = codesysConversions p
     plain a b = do
       x <- side a
       y <- side b
-      guard (convertible x y)
+      guard (convertible p x y)
       Just (Convert x y)
     side s = if s == "STRING" then Just CString else CElem <$> parseElemName s
+    numberSide = \case
+      CElem e -> isAnyNum e
+      CString -> False
     intNamed s = parseElemName s >>= \e -> e <$ guard (isAnyInt e)
     bitNamed s = parseElemName s >>= \e -> e <$ guard (isBitString e)
     fromBcd a b = do
@@ -107,8 +132,8 @@ conversionFunction name
           y <- T.stripPrefix "BCD_" b >>= bitNamed
           Just (IntToBcd x (Just y))
 
-isConversionName :: Text -> Bool
-isConversionName = maybe False (const True) . conversionFunction
+isConversionName :: Policies -> Text -> Bool
+isConversionName p = maybe False (const True) . conversionFunction p
 
 -- | TC-CONV-18 (open: "ANY to ANY", no list). Decision: the pairs that have
 -- a meaning without an invented encoding:
@@ -123,13 +148,21 @@ isConversionName = maybe False (const True) . conversionFunction
 --
 -- Not: a type to itself, DATE/TOD/DT to or from numbers (no epoch or unit is
 -- documented), BOOL with durations, STRING to the time types, WSTRING.
-convertible :: ConvType -> ConvType -> Bool
-convertible a b = case (a, b) of
-  (CElem x, CElem y) -> x /= y && elemPair x y
+--
+-- Under @standard-library = codesys@ ("any elementary type converts into
+-- any other", NX-CONV-1) also: BOOL with TIME, LTIME, TOD, DATE and DT
+-- (NX-CONV-12..16); TOD, DATE and DT with the integers, bit strings and
+-- reals (NX-CONV-26, NX-CONV-29); STRING to TIME, LTIME, TOD, DATE and DT
+-- (NX-CONV-33). Not: the time types among themselves beyond TIME/LTIME and
+-- DT_TO_TOD/DT_TO_DATE (the manual shows none).
+convertible :: Policies -> ConvType -> ConvType -> Bool
+convertible p a b = case (a, b) of
+  (CElem x, CElem y) -> x /= y && (elemPair x y || codesys && codesysPair x y)
   (CElem _, CString) -> True
-  (CString, CElem y) -> numeric y
+  (CString, CElem y) -> numeric y || codesys && isTimeLike y
   (CString, CString) -> False
   where
+    codesys = codesysConversions p
     numeric e = e == BOOL || isInt e || isAnyReal e
     number e = isInt e || isAnyReal e
     elemPair x y
@@ -137,6 +170,9 @@ convertible a b = case (a, b) of
       | isDuration x = isDuration y || number y
       | isDuration y = number x
       | otherwise = (x, y) `elem` [(DT, TOD), (DT, DATE)]
+    codesysPair x y =
+      (x == BOOL && isTimeLike y) || (isTimeLike x && y == BOOL)
+        || (isAnyDate x && number y) || (number x && isAnyDate y)
 
 isDuration :: Elem -> Bool
 isDuration e = e == TIME || e == LTIME
@@ -149,8 +185,10 @@ isDuration e = e == TIME || e == LTIME
 -- type named first (a subrange of it will do); X_TO_STRING gives a STRING
 -- of the default capacity (@string-length@); TRUNC gives DINT; BCD_TO_Y
 -- takes any bit string; X_TO_BCD gives the bit string of X's width.
+-- TRUNC_INT takes REAL or LREAL and gives INT; ANY_TO_Y takes every type
+-- that converts to Y (and Y itself), ANY_NUM_TO_Y every ANY_NUM.
 conversionType :: Policies -> Text -> [Type] -> Maybe (Either Text Type)
-conversionType p name ts = check <$> conversionFunction name
+conversionType p name ts = check <$> conversionFunction p name
   where
     check c = case ts of
       [t] -> argument c t
@@ -162,6 +200,12 @@ conversionType p name ts = check <$> conversionFunction name
       Trunc
         | Just e <- baseElem t, isAnyReal e -> Right (TElem DINT)
         | otherwise -> wrong "REAL or LREAL" t
+      TruncInt
+        | Just e <- baseElem t, isAnyReal e -> Right (TElem INT)
+        | otherwise -> wrong "REAL or LREAL" t
+      AnyTo numOnly y
+        | Just x <- sourceSide t, not numOnly || isNumber x, x == y || convertible p x y -> Right (sideType p y)
+        | otherwise -> wrong (if numOnly then "number (ANY_NUM)" else "value of a type that converts to " <> sideText y) t
       BcdToInt src y
         | Just e <- baseElem t, maybe (isBitString e) (== e) src -> Right (TElem y)
         | otherwise -> wrong (maybe "bit string (BYTE, WORD, DWORD, LWORD)" elemName src) t
@@ -173,6 +217,12 @@ conversionType p name ts = check <$> conversionFunction name
       CString -> case t of
         TString False _ -> True
         _ -> False
+    sourceSide t = case t of
+      TString False _ -> Just CString
+      _ -> CElem <$> baseElem t
+    isNumber = \case
+      CElem e -> isAnyNum e
+      CString -> False
     wrong what t = Left (name <> " converts a " <> what <> ", not a " <> typeText t <> " (TC-CONV-6)")
 
 sideType :: Policies -> ConvType -> Type
@@ -198,10 +248,12 @@ bcdElem x = case intBits x of
 
 -- | A conversion function applied (the argument types as checked).
 conversion :: Policies -> Text -> [Type] -> [Value] -> Either Fault Value
-conversion p name tys vs = case (conversionFunction name, tys, vs) of
+conversion p name tys vs = case (conversionFunction p name, tys, vs) of
   (Just c, [t], [v]) -> case c of
     Convert _ y -> convert p t (sideType p y) v
     Trunc -> trunc p v
+    TruncInt -> truncTo p INT v -- NX-CONV-36, NX-CONV-37
+    AnyTo _ y -> convert p t (sideType p y) v -- NX-CONV-38: as X_TO_Y
     BcdToInt _ y -> bcdToInt p y v
     IntToBcd x dst -> intToBcd (fromMaybe (bcdElem x) dst) v
   _ -> Left (illTyped ("the conversion " <> name <> " of these arguments"))
@@ -229,10 +281,13 @@ conversion p name tys vs = case (conversionFunction name, tys, vs) of
 --   (TC-CONV-16); LTIME the same in nanoseconds; TIME_TO_LTIME exact,
 --   LTIME_TO_TIME truncated toward zero to milliseconds, then @narrow-int@;
 -- * DT_TO_TOD the time of day, DT_TO_DATE the day at midnight (TC-CONV-10);
--- * to STRING: 'valueText'; from STRING: 'fromText' (TC-CONV-17).
+-- * to STRING: 'valueText'; from STRING: 'fromText' (TC-CONV-17);
+-- * under @standard-library = codesys@, TOD, DATE and DT to and from BOOL
+--   and the numbers through the number the controller stores ('dateNumber',
+--   'numberDate').
 convert :: Policies -> Type -> Type -> Value -> Either Fault Value
 convert p from to v = case (side from, side to) of
-  (Just _, Just CString) -> Right (VString (valueText v))
+  (Just _, Just CString) -> Right (VString (valueText p v))
   (Just _, Just (CElem y)) -> maybe none Right (toElem p y v)
   _ -> none
   where
@@ -245,7 +300,7 @@ convert p from to v = case (side from, side to) of
 
 toElem :: Policies -> Elem -> Value -> Maybe Value
 toElem p y v = case v of
-  VBool b -> fromInt (if b then 1 else 0)
+  VBool b -> fromInt (if b then 1 else 0) -- NX-CONV-12, NX-CONV-15: TRUE is 1 in the type's unit
   VInt _ n -> fromInt n
   VReal r -> fromReal r r (float2Double r)
   VLReal r -> fromReal r (double2Float r) r
@@ -254,17 +309,25 @@ toElem p y v = case v of
     DT -> Just v
     TOD -> Just (VTod (ms `mod` msPerDay)) -- TC-CONV-10
     DATE -> Just (VDate (ms - ms `mod` msPerDay))
-    _ -> Nothing
+    _ -> viaNumber
   VDate _ | y == DATE -> Just v
   VTod _ | y == TOD -> Just v
+  VDate _ -> viaNumber
+  VTod _ -> viaNumber
   VString s -> fromText p y s
   _ -> Nothing
   where
+    codesys = codesysConversions p
+    -- NX-CONV-26, NX-CONV-29: the number the controller stores, converted
+    viaNumber
+      | codesys = dateNumber v >>= fromInt
+      | otherwise = Nothing
     fromInt n
-      | y == BOOL = Just (VBool (n /= 0))
+      | y == BOOL = Just (VBool (n /= 0)) -- NX-CONV-16
       | y == REAL = Just (VReal (fromRational (fromInteger n)))
       | y == LREAL = Just (VLReal (fromRational (fromInteger n)))
       | isInt y || isDuration y = Just (integral y (narrowInt p y n))
+      | codesys && isAnyDate y = Just (numberDate p y n)
       | otherwise = Nothing
     fromReal :: RealFloat a => a -> Float -> Double -> Maybe Value
     fromReal r asFloat asDouble
@@ -272,6 +335,7 @@ toElem p y v = case v of
       | y == REAL = Just (VReal (realOverflowFrom p (finite r) asFloat))
       | y == LREAL = Just (VLReal asDouble)
       | isInt y || isDuration y = Just (integral y (realToInteger (pRealToInt p) y r))
+      | codesys && isAnyDate y = Just (numberDate p y (realToInteger (pRealToInt p) DWORD r))
       | otherwise = Nothing
     fromDuration e n
       | y == e = Just v
@@ -281,6 +345,30 @@ toElem p y v = case v of
 
 integral :: Elem -> Integer -> Value
 integral y n = if isDuration y then VTime y n else VInt y n
+
+-- | NX-TYPE-30..32, NX-CONV-26, NX-CONV-29 (standard-library = codesys):
+-- the number a controller stores for a TOD (milliseconds since midnight),
+-- a DATE or a DT (seconds since 1970-01-01; a DT's fraction of a second is
+-- dropped: the values hold milliseconds, "Stref.IEC.Values").
+dateNumber :: Value -> Maybe Integer
+dateNumber = \case
+  VTod ms -> Just ms
+  VDate ms -> Just (ms `div` 1000)
+  VDT ms -> Just (ms `div` 1000)
+  _ -> Nothing
+
+-- | The converse of 'dateNumber' (NX-CONV-10, NX-CONV-15): the number is
+-- first made a DWORD (the types are "DWORDs internally", NX-TYPE-30) by
+-- @narrow-int@; a TOD goes round modulo 24 hours as its arithmetic does
+-- (TC-OP-60); a DATE is the midnight of the day the seconds fall in
+-- (UDINT_TO_DATE(86400) = D#1970-01-02, and so is 90000).
+numberDate :: Policies -> Elem -> Integer -> Value
+numberDate p y n =
+  let d = narrowInt p DWORD n
+   in case y of
+        TOD -> VTod (d `mod` msPerDay)
+        DATE -> VDate ((d - d `mod` 86400) * 1000)
+        _ -> VDT (d * 1000)
 
 -- | An integer into a narrower (or differently signed) type (TC-CONV-13,
 -- TC-CONV-14, policy @narrow-int@): the value if it fits, else the low bits
@@ -320,17 +408,23 @@ realToInteger policy y r
 -- @real-to-int=round-even-wrap@ (the saturate/wrap half of that policy);
 -- NaN gives 0.
 trunc :: Policies -> Value -> Either Fault Value
-trunc p = \case
-  VReal r -> Right (VInt DINT (go r))
-  VLReal r -> Right (VInt DINT (go r))
+trunc p = truncTo p DINT
+
+-- | TRUNC (NX-CONV-34) and TRUNC_INT (NX-CONV-36, NX-CONV-37): the integer
+-- part, toward zero (TRUNC(-1.4) = -1), in the given integer type; beyond
+-- it as 'trunc' says.
+truncTo :: Policies -> Elem -> Value -> Either Fault Value
+truncTo p y = \case
+  VReal r -> Right (VInt y (go r))
+  VLReal r -> Right (VInt y (go r))
   v -> Left (illTyped ("TRUNC of " <> renderValue v))
   where
     go :: RealFloat a => a -> Integer
     go r = case pRealToInt p of
       RoundEvenWrap
         | isNaN r || isInfinite r -> 0
-        | otherwise -> wrapInt DINT (truncate (toRational r))
-      _ -> realToInteger TruncateSaturate DINT r
+        | otherwise -> wrapInt y (truncate (toRational r))
+      _ -> realToInteger TruncateSaturate y r
 
 -- | BCD_TO_Y (TC-CONV-8): the decimal digits held in the nibbles of a bit
 -- string, e.g. 16#1234 -> 1234; then @narrow-int@ for Y's range. Decision
@@ -375,19 +469,33 @@ showHexInteger x = go x ""
 -- integers and bit strings in decimal (WORD_TO_STRING(16#FF) = '255');
 -- REAL and LREAL by 'realText'; TIME, DATE, TOD, DT as their literals
 -- (@T#1h30m@, @D#2005-04-01@, @TOD#12:00:00.5@, @DT#2005-04-01-12:00:00@).
-valueText :: Value -> Text
-valueText = \case
+--
+-- Under @standard-library = codesys@: at most 16 significant digits, the
+-- 16th rounded (NX-CONV-25: LREAL 1.2345678901234567 gives
+-- '1.234567890123457'); a DT whose seconds are 0 is written without them,
+-- as the manual's DT_TO_STRING(DT#1998-02-13-14:20) =
+-- 'DT#1998-02-13-14:20' (NX-CONV-30).
+valueText :: Policies -> Value -> Text
+valueText p = \case
   VBool b -> if b then "TRUE" else "FALSE"
   VInt _ n -> T.pack (show n)
-  VReal r -> realText r
-  VLReal r -> realText r
+  VReal r -> realNumber r
+  VLReal r -> realNumber r
   VTime e n -> renderTime e n
   VDate ms -> renderDate ms
   VTod ms -> renderTod ms
-  VDT ms -> renderDT ms
+  VDT ms
+    | codesys && ms `mod` 60000 == 0 -> T.dropEnd 3 (renderDT ms) -- NX-CONV-30
+    | otherwise -> renderDT ms
   VString s -> s
   VEnum _ n -> n
   v -> renderValue v
+  where
+    codesys = codesysConversions p
+    realNumber :: RealFloat a => a -> Text
+    realNumber
+      | codesys = realTextDigits (Just 16) -- NX-CONV-25
+      | otherwise = realText
 
 -- | The shortest decimal that reads back as the same REAL (or LREAL):
 -- fixed-point for magnitudes from 1E-5 up to below 1E+7 (@0.1@, @-2.5@,
@@ -395,12 +503,29 @@ valueText = \case
 -- (@1.0E+7@, @1.5E-6@, @3.4028235E+38@); @0.0@, @-0.0@, @INF@, @-INF@,
 -- @NAN@.
 realText :: RealFloat a => a -> Text
-realText x
+realText = realTextDigits Nothing
+
+-- | 'realText' with at most the given number of significant digits: a
+-- shortest decimal with more is the value rounded to that many (the exact
+-- binary value, ties to even), trailing zeros dropped.
+realTextDigits :: RealFloat a => Maybe Int -> a -> Text
+realTextDigits limit x
   | isNaN x = "NAN"
   | isInfinite x = if x > 0 then "INF" else "-INF"
   | x == 0 = if isNegativeZero x then "-0.0" else "0.0"
-  | otherwise = T.pack ((if x < 0 then "-" else "") ++ body (floatToDigits 10 (abs x)))
+  | otherwise = T.pack ((if x < 0 then "-" else "") ++ body (limited (floatToDigits 10 (abs x))))
   where
+    limited (ds, e) = case limit of
+      Just k | length ds > k ->
+        let m = round (toRational (abs x) * 10 ^^ (k - e)) :: Integer
+            digits = map (\c -> fromEnum c - fromEnum '0') (show m)
+         in if length digits > k
+              then (dropZeros (take k digits), e + 1) -- rounded up to 10^k
+              else (dropZeros digits, e)
+      _ -> (ds, e)
+    dropZeros ds = case reverse (dropWhile (== 0) (reverse ds)) of
+      [] -> [0]
+      r -> r
     body (ds0, e) =
       let ds = map (\d -> toEnum (fromEnum '0' + d)) ds0 :: String
           n = length ds
@@ -427,15 +552,30 @@ realText x
 --   optional exponent (@E@ or @e@), rounded once; or @INF@, @-INF@, @NAN@
 --   (what 'realText' writes); a finite text beyond the range follows
 --   @real-overflow@;
--- * BOOL: @TRUE@ or @FALSE@ (any case), or an integer (TRUE when not 0).
+-- * BOOL: @TRUE@ or @FALSE@ (any case), or an integer (TRUE when not 0);
+-- * under @standard-library = codesys@, TIME, LTIME, TOD, DATE, DT: a
+--   literal of the type, its prefix in any spelling (NX-CONV-33:
+--   STRING_TO_TIME('T#127ms') = T#127ms; 'Stref.IEC.Parser.timeLiteral');
+--   for TIME and LTIME a duration of either prefix (TIME keeps whole
+--   milliseconds, LTIME nanoseconds, then @narrow-int@); otherwise the
+--   type's zero
+--   (NX-CONV-32).
 fromText :: Policies -> Elem -> Text -> Maybe Value
 fromText p y s
   | y == BOOL = Just (VBool (boolText s))
   | isInt y = Just (VInt y (narrowInt p y (fromMaybe 0 (parseIntegerText s))))
   | y == REAL = Just (VReal (fromRealText (parseRealText s)))
   | y == LREAL = Just (VLReal (fromRealText (parseRealText s)))
+  | codesysConversions p && isTimeLike y = Just (fromMaybe (defaultValue (TElem y)) (timeLiteral s >>= timeText))
   | otherwise = Nothing
   where
+    timeText (kind, ns) = case y of
+      TIME | isDuration kind -> Just (VTime TIME (narrowInt p TIME (ns `quot` 1000000)))
+      LTIME | isDuration kind -> Just (VTime LTIME (narrowInt p LTIME ns))
+      DATE | kind == DATE -> Just (VDate (ns `div` 1000000))
+      TOD | kind == TOD -> Just (VTod (ns `div` 1000000))
+      DT | kind == DT -> Just (VDT (ns `div` 1000000))
+      _ -> Nothing
     boolText t = case T.toUpper (T.strip t) of
       "TRUE" -> True
       "FALSE" -> False

@@ -10,6 +10,7 @@ module Stref.IEC.Parser
   ( parseUnit
   , parseUnitExpr
   , keywords
+  , timeLiteral
   ) where
 
 import Control.Monad (void, when)
@@ -21,6 +22,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Pragma (preprocessWith)
 import Stref.IEC.Syntax
+import Stref.IEC.Types (Elem (..))
 import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..))
 import Stref.Verification (VerificationError (..))
 import Text.Megaparsec hiding (Pos)
@@ -389,6 +391,37 @@ todBody = do
   let f = fromMaybe "" frac
       fracNs = (readIn 10 f * 1000000000) `div` (10 ^ T.length f)
   pure (((h * 60 + m) * 60 + s) * 1000000000 + fracNs)
+
+-- | The text of a duration, date, time-of-day or date-and-time literal, as
+-- a conversion from STRING reads it (NX-CONV-33: STRING_TO_TIME('T#127ms')):
+-- the whole text, blanks around it ignored, with its prefix in any case and
+-- spelling of 'prefixed'; the type the prefix names (TIME for @T#@, LTIME
+-- for @LT#@) and the value in nanoseconds. A date and time may leave out
+-- the seconds (@DT#1998-02-13-14:20@), as DT_TO_STRING writes it under
+-- standard-library = codesys (NX-CONV-30).
+timeLiteral :: Text -> Maybe (Elem, Integer)
+timeLiteral t = either (const Nothing) Just (runParser (lit <* eof) "" (T.strip t))
+  where
+    lit = do
+      w <- takeWhile1P Nothing isWordChar <* char '#'
+      case T.toUpper w of
+        u
+          | u `elem` ["T", "TIME"] -> (TIME,) <$> durationBody
+          | u `elem` ["LT", "LTIME"] -> (LTIME,) <$> durationBody
+          | u `elem` ["D", "DATE"] -> (DATE,) <$> dateBody
+          | u `elem` ["TOD", "TIME_OF_DAY"] -> (TOD,) <$> todBody
+          | u `elem` ["DT", "DATE_AND_TIME"] -> do
+              d <- dateBody
+              _ <- char '-'
+              c <- try todBody <|> minutes
+              pure (DT, d + c)
+          | otherwise -> fail "no time literal"
+    minutes = do
+      h <- readIn 10 <$> digitsIn 10
+      _ <- char ':'
+      m <- readIn 10 <$> digitsIn 10
+      when (h > 23 || m > 59) (fail "this is not a valid time of day")
+      pure ((h * 60 + m) * 60 * 1000000000)
 
 -- | @T#@, @D#@, @TOD#@, @DT#@ in their short and long spellings (TC-LEX-41,
 -- TC-LEX-42, TC-LEX-46), and typed literals @INT#5@ (TC-LEX-24), and

@@ -85,8 +85,8 @@ isStandardName n = T.toUpper n `elem` standardNames
 -- | The formal parameter names of a call with @n@ arguments, in order (for
 -- the extensible functions IN1..INn, for MUX K, IN0..INn-2); conversion
 -- functions take IN. 'Nothing' for other names.
-standardParameters :: Text -> Int -> Maybe [Text]
-standardParameters name n = case T.toUpper name of
+standardParameters :: Policies -> Text -> Int -> Maybe [Text]
+standardParameters p name n = case T.toUpper name of
   f
     | f `elem` (["ABS", "MOVE", "NOT", "LEN"] ++ map fst realFunctions) -> Just ["IN"]
     | f `elem` (map fst extensibleOps ++ map fst chainOps ++ ["MAX", "MIN", "CONCAT"]) -> Just (numbered 1 (max 2 n))
@@ -99,7 +99,7 @@ standardParameters name n = case T.toUpper name of
   "LIMIT" -> Just ["MN", "IN", "MX"]
   "INSERT" -> Just ["IN1", "IN2", "P"]
   "REPLACE" -> Just ["IN1", "IN2", "L", "P"]
-  f | isConversionName f -> Just ["IN"]
+  f | isConversionName p f -> Just ["IN"]
   _ -> Nothing
   where
     numbered from k = ["IN" <> T.pack (show i) | i <- take k [from :: Int ..]]
@@ -270,7 +270,7 @@ standard p name tys vs = case (f, vs) of
     result (T.take i a <> b <> T.drop (i + k) a)
   ("FIND", [VString a, VString b]) -> intResult p INT (find a b)
   _
-    | isConversionName f -> conversion p f tys vs
+    | isConversionName p f -> conversion p f tys vs
     | otherwise -> Left (illTyped ("the function " <> f <> " of these arguments"))
   where
     f = T.toUpper name

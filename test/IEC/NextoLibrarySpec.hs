@@ -1,0 +1,109 @@
+-- | The nexto dialect's conversions and library (standard-library =
+-- codesys): CODESYS's conversion functions (Nexto catalogue §3.2), the
+-- functions and function blocks of util.library, RTC and TIME(). Expected
+-- values are the manual's printed results or worked out by hand from the
+-- rules named; none was obtained by running the code.
+module IEC.NextoLibrarySpec (spec) where
+
+import Data.Text (Text)
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy
+import Support.Iec
+import Test.Hspec
+
+-- | One assignment @x := expr@ with x of the given type, run once under the
+-- nexto preset: x's value.
+assigned :: Text -> Text -> Either Text Value
+assigned ty e = runMain nexto ("VAR x : " <> ty <> "; END_VAR x := " <> e <> ";") 1 "x"
+
+str :: Text -> Either Text Value
+str = Right . VString
+
+spec :: Spec
+spec = describe "the nexto dialect's conversions and library (standard-library = codesys)" $ do
+  describe "BOOL and the time types (NX-CONV-12..18)" $ do
+    it "TRUE is 1 in the type's unit (NX-CONV-14, NX-CONV-15)" $ do
+      assigned "TIME" "BOOL_TO_TIME(TRUE)" `shouldBe` Right (VTime TIME 1)
+      assigned "TOD" "BOOL_TO_TOD(TRUE)" `shouldBe` Right (VTod 1)
+      assigned "DATE" "BOOL_TO_DATE(FALSE)" `shouldBe` Right (VDate 0)
+      assigned "DT" "BOOL_TO_DT(TRUE)" `shouldBe` Right (VDT 1000)
+    it "a time type is TRUE when not 0 (NX-CONV-16, NX-CONV-18)" $ do
+      assigned "BOOL" "TIME_TO_BOOL(T#5ms)" `shouldBe` Right (VBool True)
+      assigned "BOOL" "DATE_TO_BOOL(D#1970-01-01)" `shouldBe` Right (VBool False)
+      assigned "BOOL" "TOD_TO_BOOL(TOD#00:00:00.001)" `shouldBe` Right (VBool True)
+  describe "the time types as numbers: TIME, TOD in ms, DATE, DT in s (NX-CONV-26, NX-CONV-29)" $ do
+    it "the manual's examples, narrowing keeping the low bytes (NX-CONV-28, NX-CONV-30)" $ do
+      assigned "DWORD" "TIME_TO_DWORD(T#5m)" `shouldBe` Right (VInt DWORD 300000)
+      assigned "SINT" "TOD_TO_SINT(TOD#00:00:00.012)" `shouldBe` Right (VInt SINT 12)
+      -- 14 days = 1209600 s = 16#12_7500: INT keeps 16#7500
+      assigned "INT" "DATE_TO_INT(D#1970-01-15)" `shouldBe` Right (VInt INT 29952)
+      -- 1227905 s = 16#12_BC81: BYTE keeps 16#81
+      assigned "BYTE" "DT_TO_BYTE(DT#1970-01-15-05:05:05)" `shouldBe` Right (VInt BYTE 129)
+    it "under narrow-int = saturate the nearest bound" $
+      runMain nexto {pNarrowInt = NarrowSaturate} "VAR x : INT; END_VAR x := DATE_TO_INT(D#1970-01-15);" 1 "x" `shouldBe` Right (VInt INT 32767)
+    it "numbers to TOD, DATE and DT" $ do
+      assigned "TOD" "DWORD_TO_TOD(3600000)" `shouldBe` Right (VTod 3600000)
+      assigned "DATE" "UDINT_TO_DATE(86400)" `shouldBe` Right (VDate 86400000)
+      -- a DATE is the midnight of the day the seconds fall in
+      assigned "DATE" "UDINT_TO_DATE(90000)" `shouldBe` Right (VDate 86400000)
+      assigned "DT" "DWORD_TO_DT(3661)" `shouldBe` Right (VDT 3661000)
+      assigned "LREAL" "DT_TO_LREAL(DT#1970-01-01-00:01:00)" `shouldBe` Right (VLReal 60)
+  describe "to and from STRING (NX-CONV-11, NX-CONV-25, NX-CONV-27, NX-CONV-30..33)" $ do
+    it "a time type gives its constant; a DT without seconds when they are 0 (NX-CONV-28, NX-CONV-30)" $ do
+      assigned "STRING" "TIME_TO_STRING(T#12ms)" `shouldBe` str "T#12ms"
+      assigned "STRING" "DT_TO_STRING(DT#1998-02-13-14:20:00)" `shouldBe` str "DT#1998-02-13-14:20"
+      assigned "STRING" "DT_TO_STRING(DT#1998-02-13-14:20:05)" `shouldBe` str "DT#1998-02-13-14:20:05"
+      assigned "STRING[4]" "TIME_TO_STRING(T#12ms)" `shouldBe` str "T#12"
+    it "at most 16 significant digits, the 16th rounded (NX-CONV-25)" $ do
+      -- binary64 1.2345678901234567 is 1.23456789012345669...
+      assigned "STRING" "LREAL_TO_STRING(LREAL#1.2345678901234567)" `shouldBe` str "1.234567890123457"
+      assigned "STRING" "LREAL_TO_STRING(LREAL#0.1)" `shouldBe` str "0.1"
+    it "STRING to a time type reads its literal; other text gives 0 (NX-CONV-32, NX-CONV-33)" $ do
+      assigned "TIME" "STRING_TO_TIME('T#127ms')" `shouldBe` Right (VTime TIME 127)
+      assigned "TIME" "STRING_TO_TIME('t#1m35s')" `shouldBe` Right (VTime TIME 95000)
+      assigned "TIME" "STRING_TO_TIME('abc')" `shouldBe` Right (VTime TIME 0)
+      assigned "TIME" "STRING_TO_TIME('D#2000-01-01')" `shouldBe` Right (VTime TIME 0)
+      assigned "TOD" "STRING_TO_TOD('TOD#01:00:00')" `shouldBe` Right (VTod 3600000)
+      assigned "DATE" "STRING_TO_DATE('D#1970-01-02')" `shouldBe` Right (VDate 86400000)
+      -- 10270 days and 14:20 (51600 s): 887379600 s
+      assigned "DT" "STRING_TO_DT('DT#1998-02-13-14:20')" `shouldBe` Right (VDT 887379600000)
+    it "STRING to a number goes through the integer and keeps the low byte (NX-CONV-31, NX-CONV-33)" $ do
+      assigned "BYTE" "STRING_TO_BYTE('500')" `shouldBe` Right (VInt BYTE 244)
+      assigned "WORD" "STRING_TO_WORD('abc34')" `shouldBe` Right (VInt WORD 0)
+  describe "TRUNC, TRUNC_INT, ANY_TO (NX-CONV-34..38)" $ do
+    it "TRUNC_INT gives the integer part as INT (NX-CONV-36, NX-CONV-37)" $ do
+      assigned "INT" "TRUNC_INT(1.9)" `shouldBe` Right (VInt INT 1)
+      assigned "INT" "TRUNC_INT(-1.4)" `shouldBe` Right (VInt INT (-1))
+      assigned "DINT" "TRUNC_INT(REAL#1.9)" `shouldBe` Right (VInt DINT 1)
+    it "TRUNC gives the context's type (NX-CONV-34, NX-CONV-35)" $ do
+      assigned "DINT" "TRUNC(-1.4)" `shouldBe` Right (VInt DINT (-1))
+      assigned "INT" "TRUNC(REAL#1.9)" `shouldBe` Right (VInt INT 1)
+    it "ANY_TO_INT of a REAL rounds as REAL_TO_INT does (NX-CONV-38)" $ do
+      runMain nexto "VAR re : REAL := 1.234; i : INT; END_VAR i := ANY_TO_INT(re);" 1 "i" `shouldBe` Right (VInt INT 1)
+      runMain nexto "VAR re : REAL := 1.5; i : INT; END_VAR i := ANY_TO_INT(re);" 1 "i" `shouldBe` Right (VInt INT 2)
+    it "ANY_TO_ takes any type, ANY_NUM_TO_ the numbers (NX-TYPE-86)" $ do
+      assigned "LREAL" "ANY_NUM_TO_LREAL(DINT#7)" `shouldBe` Right (VLReal 7)
+      assigned "DINT" "ANY_TO_DINT(T#2s)" `shouldBe` Right (VInt DINT 2000)
+      assigned "STRING" "ANY_TO_STRING(TRUE)" `shouldBe` str "TRUE"
+      assigned "INT" "ANY_TO_INT(INT#5)" `shouldBe` Right (VInt INT 5)
+      fmap fst (rejectKind nexto "PROGRAM MAIN\nVAR x : DINT; END_VAR\nx := ANY_NUM_TO_DINT(T#2s);\nEND_PROGRAM\n") `shouldBe` Just "type-mismatch"
+  describe "LTIME in nanoseconds (NX-TYPE-33)" $ do
+    it "TIME_TO_LTIME keeps the duration, LTIME_TO_TIME truncates to milliseconds" $ do
+      assigned "LTIME" "TIME_TO_LTIME(T#5ms)" `shouldBe` Right (VTime LTIME 5000000)
+      assigned "TIME" "LTIME_TO_TIME(TIME_TO_LTIME(T#1m2s3ms))" `shouldBe` Right (VTime TIME 62003)
+      assigned "TIME" "LTIME_TO_TIME(LWORD_TO_LTIME(1999999))" `shouldBe` Right (VTime TIME 1)
+    it "LTIME with the integers counts nanoseconds" $ do
+      assigned "LINT" "LTIME_TO_LINT(TIME_TO_LTIME(T#1ms))" `shouldBe` Right (VInt LINT 1000000)
+      assigned "LTIME" "LWORD_TO_LTIME(1500)" `shouldBe` Right (VTime LTIME 1500)
+      -- 5 s = 5000000000 ns; DINT keeps its low 32 bits: 5000000000 - 2^32
+      assigned "DINT" "LTIME_TO_DINT(TIME_TO_LTIME(T#5s))" `shouldBe` Right (VInt DINT 705032704)
+  describe "under standard-library = iec the IEC core's conversions stay (tecomat)" $ do
+    it "no CODESYS conversions" $ do
+      fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR x : INT; END_VAR\nx := DATE_TO_INT(D#1970-01-15);\nEND_PROGRAM\n") `shouldBe` Just "undeclared-function"
+      fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR x : INT; END_VAR\nx := TRUNC_INT(1.5);\nEND_PROGRAM\n") `shouldBe` Just "undeclared-function"
+    it "IEC's BCD conversions: BCD_TO_INT of a bit string, an invalid digit is an error (TC-CONV-8, TC-CONV-15)" $ do
+      runMain tecomat "VAR x : INT; END_VAR x := BCD_TO_INT(WORD#16#1234);" 1 "x" `shouldBe` Right (VInt INT 1234)
+      errorOf tecomat "VAR x : INT; END_VAR x := BCD_TO_INT(WORD#16#12A4);" 1 `shouldBe` Just (1, "conversion")
+    it "DT_TO_STRING keeps the seconds" $
+      runMain tecomat "VAR x : STRING; END_VAR x := DT_TO_STRING(DT#1998-02-13-14:20:00);" 1 "x" `shouldBe` str "DT#1998-02-13-14:20:00"
