@@ -107,3 +107,32 @@ spec = describe "the nexto dialect's conversions and library (standard-library =
       errorOf tecomat "VAR x : INT; END_VAR x := BCD_TO_INT(WORD#16#12A4);" 1 `shouldBe` Just (1, "conversion")
     it "DT_TO_STRING keeps the seconds" $
       runMain tecomat "VAR x : STRING; END_VAR x := DT_TO_STRING(DT#1998-02-13-14:20:00);" 1 "x" `shouldBe` str "DT#1998-02-13-14:20:00"
+  describe "util.library's functions and TIME() (NX-FB-34..37, NX-OP-87)" $ do
+    it "BCD_TO_INT: -1 for a byte that is no BCD (NX-CONV-39)" $ do
+      assigned "INT" "BCD_TO_INT(73)" `shouldBe` Right (VInt INT 49)
+      assigned "INT" "BCD_TO_INT(151)" `shouldBe` Right (VInt INT 97)
+      assigned "INT" "BCD_TO_INT(15)" `shouldBe` Right (VInt INT (-1))
+      assigned "INT" "BCD_TO_INT(B := 16#A1)" `shouldBe` Right (VInt INT (-1))
+    it "INT_TO_BCD: 255 outside 0..99 (NX-CONV-40)" $ do
+      assigned "BYTE" "INT_TO_BCD(49)" `shouldBe` Right (VInt BYTE 73)
+      assigned "BYTE" "INT_TO_BCD(97)" `shouldBe` Right (VInt BYTE 151)
+      assigned "BYTE" "INT_TO_BCD(100)" `shouldBe` Right (VInt BYTE 255)
+      assigned "BYTE" "INT_TO_BCD(-5)" `shouldBe` Right (VInt BYTE 255)
+    it "a literal argument outside the parameter's type is rejected" $
+      fmap fst (rejectKind nexto "PROGRAM MAIN\nVAR x : INT; END_VAR\nx := BCD_TO_INT(300);\nEND_PROGRAM\n") `shouldBe` Just "value-out-of-limits"
+    it "EXTRACT reads bit N of X (NX-FB-35)" $ do
+      assigned "BOOL" "EXTRACT(X := 81, N := 4)" `shouldBe` Right (VBool True)
+      assigned "BOOL" "EXTRACT(X := 33, N := 0)" `shouldBe` Right (VBool True)
+      assigned "BOOL" "EXTRACT(N := 1, X := 81)" `shouldBe` Right (VBool False)
+    it "PUTBIT sets bit N of X to B (NX-FB-36)" $ do
+      runMain nexto "VAR A, B, C : DWORD; END_VAR A := 38; B := PUTBIT(A, 4, TRUE); C := PUTBIT(A, 1, FALSE);" 1 "B" `shouldBe` Right (VInt DWORD 54)
+      runMain nexto "VAR A, B, C : DWORD; END_VAR A := 38; B := PUTBIT(A, 4, TRUE); C := PUTBIT(A, 1, FALSE);" 1 "C" `shouldBe` Right (VInt DWORD 36)
+    it "PACK makes B0..B7 a BYTE, B0 the lowest bit; an input left out is FALSE (NX-FB-37)" $ do
+      assigned "BYTE" "PACK(B0 := TRUE, B1 := FALSE, B2 := TRUE, B3 := FALSE, B4 := FALSE, B5 := TRUE, B6 := FALSE, B7 := TRUE)" `shouldBe` Right (VInt BYTE 165)
+      assigned "BYTE" "PACK(B7 := TRUE)" `shouldBe` Right (VInt BYTE 128)
+    it "TIME() is the clock: T#0ms in the first cycle, 10 ms more in each (NX-OP-87)" $ do
+      runMain nexto "VAR t : TIME; END_VAR t := TIME();" 1 "t" `shouldBe` Right (VTime TIME 0)
+      runMain nexto "VAR t : TIME; END_VAR t := TIME();" 4 "t" `shouldBe` Right (VTime TIME 30)
+    it "none of them under standard-library = iec" $ do
+      fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR x : BOOL; END_VAR\nx := EXTRACT(81, 4);\nEND_PROGRAM\n") `shouldBe` Just "undeclared-function"
+      fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR x : TIME; END_VAR\nx := TIME();\nEND_PROGRAM\n") `shouldBe` Just "undeclared-function"

@@ -28,7 +28,7 @@ import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
 import Stref.IEC.Memory (Layout (..), sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
-import Stref.IEC.Standard (standardParameters, standardType)
+import Stref.IEC.Standard (libraryFunction, standardParameters, standardType)
 import Stref.IEC.StandardFB (standardFBNames, standardFBs)
 import Stref.IEC.Syntax
 import Stref.IEC.Types
@@ -1312,7 +1312,7 @@ isUserFunction f = do
   pol <- asks envPol
   pure $ case M.lookup (key f) pous of
     Just pou -> pouKind pou == KFunction
-    Nothing -> key f `elem` standardFunctionNames || isJust (conversionName pol (key f))
+    Nothing -> key f `elem` standardFunctionNames || isJust (conversionName pol (key f)) || isJust (libraryFunction pol (key f))
 
 fixed :: Pos -> Type -> CNode -> C TExpr
 fixed p t n = pure (CExpr p t n, Fixed)
@@ -1480,6 +1480,7 @@ typeHint depth e
         | otherwise -> typeHint (depth - 1) x >>= maybe (typeHint (depth - 1) y) (pure . Just)
       ECall _ f args -> asks envPol >>= \pol -> case conversionName pol (key f) of
         Just (_, to) -> pure (Just (TElem to))
+        Nothing | Just (_, result) <- libraryFunction pol (key f) -> pure (Just (TElem result))
         Nothing -> do
           pous <- asks envPous
           varsOf <- asks envVarsOf
@@ -1568,6 +1569,7 @@ callStandard expected p f args = do
       Just pou
         | pouKind pou == KFunction -> userCall pou
         | otherwise -> failC "not-a-function" p (f <> " is not a function")
+      Nothing | Just (params, result) <- libraryFunction pol k -> libraryCall params result
       Nothing -> do
         a <- positionalOnly
         -- an expression of untyped literals in an argument takes the type
@@ -1635,6 +1637,17 @@ callStandard expected p f args = do
       unless (null outputs) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")
       let result = fromMaybe (TElem BOOL) (viType <$> find ((== key (pouName pou)) . viKey) vars)
       fixed p result (CCall (key (pouName pou)) inputs inouts)
+    -- util.library's functions and TIME() (standard-library = codesys,
+    -- NX-FB-34..37, NX-OP-87): bound as a user function's parameters, so
+    -- that untyped literals take the parameters' types (BCD_TO_INT(73): a
+    -- BYTE) and formal arguments may come in any order; an input left out
+    -- is the type's zero (TC-POU-9)
+    libraryCall params result = do
+      let vars = [VarInfo n n SecInput (TElem e) (defaultValue (TElem e)) False Nothing Nothing p | (n, e) <- params]
+      (inputs, _, outputs) <- bindArgs p f vars args
+      unless (null outputs) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")
+      let argOf (n, e) = fromMaybe (CExpr p (TElem e) (CConst (defaultValue (TElem e)))) (lookup n inputs)
+      fixed p (TElem result) (CStandard (key f) (map argOf params))
 
 -- | Arguments against a POU's parameters (TC-POU-11, TC-POU-33..36):
 -- positional in the order of the inputs (and in-outs), or formal; never
@@ -1719,7 +1732,7 @@ checkCallStmt p callee args = do
   where
     isFunctionName pol pous n = case M.lookup (key n) pous of
       Just pou -> pouKind pou == KFunction
-      Nothing -> key n `elem` standardFunctionNames || isJust (conversionName pol (key n))
+      Nothing -> key n `elem` standardFunctionNames || isJust (conversionName pol (key n)) || isJust (libraryFunction pol (key n))
     fbCall = do
       pous' <- asks envPous
       case callee of

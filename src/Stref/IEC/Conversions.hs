@@ -9,7 +9,8 @@
 -- (TIME and TOD milliseconds, LTIME nanoseconds, DATE and DT seconds since
 -- 1970, NX-CONV-26, NX-CONV-29), so they convert to and from BOOL and every
 -- number; STRING converts to them from their literals (NX-CONV-33);
--- TRUNC_INT (NX-CONV-36), ANY_TO_Y and ANY_NUM_TO_Y (NX-CONV-38) exist.
+-- TRUNC_INT (NX-CONV-36), ANY_TO_Y and ANY_NUM_TO_Y (NX-CONV-38) exist; the
+-- BCD conversions are util.library's two functions ("Stref.IEC.Standard").
 --
 -- 'convert' is the meaning of one conversion between two types; the
 -- checker also uses it for the conversions it inserts itself.
@@ -93,7 +94,8 @@ conversionName p n = case conversionFunction p n of
 -- | Any conversion function: @X_TO_Y@ for the pairs of 'convertible',
 -- @TRUNC@, @BCD_TO_Y@, @X_BCD_TO_Y@, @X_TO_BCD@, @X_TO_BCD_Y@; under
 -- @standard-library = codesys@ also @TRUNC_INT@, @ANY_TO_Y@ and
--- @ANY_NUM_TO_Y@.
+-- @ANY_NUM_TO_Y@, and none of the BCD forms (util.library's BCD_TO_INT and
+-- INT_TO_BCD are functions of their own, NX-FB-34).
 conversionFunction :: Policies -> Text -> Maybe Conversion
 conversionFunction p name
   | n == truncName = Just Trunc
@@ -101,7 +103,9 @@ conversionFunction p name
   | codesys, Just y <- T.stripPrefix "ANY_NUM_TO_" n = AnyTo True <$> (side y >>= \t -> t <$ guard (numberSide t)) -- NX-CONV-38
   | codesys, Just y <- T.stripPrefix "ANY_TO_" n = AnyTo False <$> side y -- NX-CONV-38
   | otherwise = case T.splitOn "_TO_" n of
-      [a, b] -> plain a b <|> fromBcd a b <|> toBcd a b
+      [a, b]
+        | codesys -> plain a b
+        | otherwise -> plain a b <|> fromBcd a b <|> toBcd a b
       _ -> Nothing
   where
     n = T.toUpper name

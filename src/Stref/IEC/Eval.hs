@@ -34,7 +34,7 @@ import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert)
 import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, sizeInBytes)
 import Stref.IEC.Operators (binary, unary)
-import Stref.IEC.Standard (standard)
+import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
@@ -479,6 +479,10 @@ eval ce = case ceNode ce of
     pol <- asks cxPol
     v <- eval a
     orFault (cePos ce) (convert pol (ceType a) t v)
+  -- NX-OP-87, NX-TASK-9: TIME() (only under standard-library = codesys,
+  -- which the checker decides) is the time since the controller started:
+  -- the clock the standard FBs read, in TIME's 32 bits
+  CStandard f [] | f == timeFunction -> VTime TIME . wrapInt TIME <$> gets mClock
   CStandard f args -> do
     pol <- asks cxPol
     vs <- mapM eval args

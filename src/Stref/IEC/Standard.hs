@@ -13,16 +13,24 @@
 -- (ADD(TOD, TIME), MUL(TIME, INT), ...), the exponent of EXPT, the N of
 -- the shifts, and the ANY_INT positions and lengths of the string functions
 -- (any integer type each, TC-CONV-5).
+--
+-- Under @standard-library = codesys@ also the functions of CODESYS's
+-- util.library that the Nexto manual documents (BCD_TO_INT, INT_TO_BCD,
+-- EXTRACT, PUTBIT, PACK: NX-FB-34..37) and TIME() (NX-OP-87): functions
+-- with parameters of fixed types ('libraryFunction'), which the checker
+-- binds as it binds a user function's.
 module Stref.IEC.Standard
   ( standardNames
   , isStandardName
   , standardParameters
   , standardType
   , standard
+  , libraryFunction
+  , timeFunction
   ) where
 
 import Control.Monad (foldM, unless, zipWithM, zipWithM_)
-import Data.Bits (shiftL, shiftR, (.&.), (.|.))
+import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.), (.|.))
 import Data.Text (Text)
 import qualified Data.Text as T
 import GHC.Float (double2Float, float2Double)
@@ -82,12 +90,38 @@ standardNames =
 isStandardName :: Text -> Bool
 isStandardName n = T.toUpper n `elem` standardNames
 
+-- | NX-OP-87, NX-TASK-9: @TIME()@, the time since the controller started,
+-- is the virtual clock; the evaluator, which has it, computes the call.
+timeFunction :: Text
+timeFunction = "TIME"
+
+-- | A function of fixed parameter types under @standard-library =
+-- codesys@: its formal parameters (names and types, in order) and its
+-- result type. util.library's, as the manual declares them (L13555-13660;
+-- the parameter names of BCD_TO_INT and INT_TO_BCD, which the manual does
+-- not print, are CODESYS's B and I), and TIME() (L8764-8776).
+libraryFunction :: Policies -> Text -> Maybe ([(Text, Elem)], Elem)
+libraryFunction p name
+  | pStandardLibrary p == LibraryCodesys = lookup (T.toUpper name) codesysLibrary
+  | otherwise = Nothing
+
+codesysLibrary :: [(Text, ([(Text, Elem)], Elem))]
+codesysLibrary =
+  [ ("BCD_TO_INT", ([("B", BYTE)], INT)) -- NX-CONV-39, NX-FB-34
+  , ("INT_TO_BCD", ([("I", INT)], BYTE)) -- NX-CONV-40, NX-FB-34
+  , ("EXTRACT", ([("X", DWORD), ("N", BYTE)], BOOL)) -- NX-FB-35
+  , ("PUTBIT", ([("X", DWORD), ("N", BYTE), ("B", BOOL)], DWORD)) -- NX-FB-36
+  , ("PACK", ([("B" <> T.pack (show i), BOOL) | i <- [0 .. 7 :: Int]], BYTE)) -- NX-FB-37
+  , (timeFunction, ([], TIME)) -- NX-OP-87
+  ]
+
 -- | The formal parameter names of a call with @n@ arguments, in order (for
 -- the extensible functions IN1..INn, for MUX K, IN0..INn-2); conversion
 -- functions take IN. 'Nothing' for other names.
 standardParameters :: Policies -> Text -> Int -> Maybe [Text]
 standardParameters p name n = case T.toUpper name of
   f
+    | Just (params, _) <- libraryFunction p f -> Just (map fst params)
     | f `elem` (["ABS", "MOVE", "NOT", "LEN"] ++ map fst realFunctions) -> Just ["IN"]
     | f `elem` (map fst extensibleOps ++ map fst chainOps ++ ["MAX", "MIN", "CONCAT"]) -> Just (numbered 1 (max 2 n))
     | f `elem` (map fst pairOps ++ ["NE", "FIND"]) -> Just ["IN1", "IN2"]
@@ -111,11 +145,17 @@ standardParameters p name n = case T.toUpper name of
 -- the name is neither a standard function nor a conversion function, a
 -- message when the arguments do not fit.
 standardType :: Policies -> Text -> [Type] -> Maybe (Either Text Type)
-standardType p name ts = case typing p f ts of
-  Nothing -> conversionType p f ts
-  r -> r
+standardType p name ts = case libraryFunction p f of
+  Just (params, result) -> Just (libraryType params result)
+  Nothing -> case typing p f ts of
+    Nothing -> conversionType p f ts
+    r -> r
   where
     f = T.toUpper name
+    libraryType params result
+      | length ts /= length params = Left (f <> " takes " <> T.pack (show (length params)) <> " arguments, not " <> T.pack (show (length ts)))
+      | and (zipWith (\t (_, e) -> baseElem t == Just e) ts params) = Right (TElem result)
+      | otherwise = Left (f <> " takes " <> T.intercalate ", " [n <> " : " <> elemName e | (n, e) <- params])
 
 typing :: Policies -> Text -> [Type] -> Maybe (Either Text Type)
 typing p f ts = case f of
@@ -219,6 +259,7 @@ typing p f ts = case f of
 -- types, positional and complete.
 standard :: Policies -> Text -> [Type] -> [Value] -> Either Fault Value
 standard p name tys vs = case (f, vs) of
+  _ | Just _ <- libraryFunction p f -> library f vs
   ("ABS", [v]) -> absValue p v
   (_, [v]) | Just fn <- lookup f realFunctions -> realFunction p fn v
   (_, v : rest@(_ : _)) | Just op <- lookup f extensibleOps -> foldM (binary p op) v rest
@@ -293,6 +334,53 @@ standard p name tys vs = case (f, vs) of
             StringTruncate -> Right (VString (T.take cap s))
             StringOverflowError -> Left (Fault "index-out-of-range" (f <> " gives " <> T.pack (show (T.length s)) <> " characters; its result holds " <> T.pack (show cap)))
       _ -> Right (VString s)
+
+-- | The functions of 'libraryFunction' (not TIME(), which needs the clock).
+library :: Text -> [Value] -> Either Fault Value
+library f vs = case (f, vs) of
+  ("BCD_TO_INT", [VInt _ b]) -> Right (VInt INT (bcdByte b))
+  ("INT_TO_BCD", [VInt _ i]) -> Right (VInt BYTE (bcdOf i))
+  ("EXTRACT", [VInt _ x, VInt _ n]) -> Right (VBool (extract x n))
+  ("PUTBIT", [VInt _ x, VInt _ n, VBool b]) -> Right (VInt DWORD (putBit x n b))
+  ("PACK", bs) | Just bits <- mapM bool bs -> Right (VInt BYTE (pack bits))
+  _ -> Left (illTyped ("the function " <> f <> " of these arguments"))
+  where
+    bool = \case
+      VBool b -> Just b
+      _ -> Nothing
+
+-- | NX-CONV-39: BCD_TO_INT, the two decimal digits of a BCD byte (tens in
+-- bits 4-7, L13559-13564): 16#49 = 73 gives 49; a nibble above 9 is no
+-- BCD byte and gives -1 (BCD_TO_INT(15) = -1).
+bcdByte :: Integer -> Integer
+bcdByte b =
+  let (tens, ones) = b `divMod` 16
+   in if tens > 9 || ones > 9 then -1 else tens * 10 + ones
+
+-- | NX-CONV-40: INT_TO_BCD, 0..99 as a BCD byte (49 gives 16#49 = 73); any
+-- other value, negative ones included, gives 255 (INT_TO_BCD(100) = 255).
+bcdOf :: Integer -> Integer
+bcdOf i
+  | i >= 0 && i <= 99 = (i `div` 10) * 16 + i `mod` 10
+  | otherwise = 255
+
+-- | NX-FB-35: EXTRACT, bit N of the DWORD X, bits counted from 0
+-- (EXTRACT(X := 81, N := 4) = TRUE). Decision: X has no bit 32 or above,
+-- which reads FALSE.
+extract :: Integer -> Integer -> Bool
+extract x n = n < 32 && testBit x (fromInteger n)
+
+-- | NX-FB-36: PUTBIT, X with bit N set to B (A = 38: PUTBIT(A, 4, TRUE) =
+-- 54, PUTBIT(A, 1, FALSE) = 36). Decision: an N of 32 or above leaves X as
+-- it is.
+putBit :: Integer -> Integer -> Bool -> Integer
+putBit x n b
+  | n < 32 = (if b then setBit else clearBit) x (fromInteger n)
+  | otherwise = x
+
+-- | NX-FB-37: PACK, the BOOLs B0..B7 as the bits 0..7 of a BYTE.
+pack :: [Bool] -> Integer
+pack bits = sum [2 ^ i | (i, True) <- zip [0 :: Int ..] bits]
 
 intValue :: Value -> Either Fault Integer
 intValue = \case
