@@ -136,3 +136,55 @@ spec = describe "the nexto dialect's conversions and library (standard-library =
     it "none of them under standard-library = iec" $ do
       fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR x : BOOL; END_VAR\nx := EXTRACT(81, 4);\nEND_PROGRAM\n") `shouldBe` Just "undeclared-function"
       fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR x : TIME; END_VAR\nx := TIME();\nEND_PROGRAM\n") `shouldBe` Just "undeclared-function"
+  describe "util.library's function blocks and RTC (NX-FB-30..33, NX-FB-37..40)" $ do
+    it "UNPACK splits B into B0..B7 (NX-FB-37)" $ do
+      runMain nexto "VAR u : UNPACK; END_VAR u(B := 16#A5);" 1 "u.B0" `shouldBe` Right (VBool True)
+      runMain nexto "VAR u : UNPACK; END_VAR u(B := 16#A5);" 1 "u.B1" `shouldBe` Right (VBool False)
+      runMain nexto "VAR u : UNPACK; END_VAR u(B := 16#A5);" 1 "u.B7" `shouldBe` Right (VBool True)
+    let levels = "VAR lv : ARRAY [1..5] OF INT := [70, 40, 50, 101, 100]; hy : HYSTERESIS; al : LIMITALARM; k : INT; END_VAR k := k + 1; hy(IN := lv[k], HIGH := 100, LOW := 50); al(IN := lv[k], HIGH := 100, LOW := 50);"
+    it "HYSTERESIS: TRUE below LOW, FALSE above HIGH, else held (NX-FB-39)" $ do
+      runMain nexto levels 1 "hy.OUT" `shouldBe` Right (VBool False)
+      runMain nexto levels 2 "hy.OUT" `shouldBe` Right (VBool True)
+      runMain nexto levels 3 "hy.OUT" `shouldBe` Right (VBool True)
+      runMain nexto levels 4 "hy.OUT" `shouldBe` Right (VBool False)
+    it "LIMITALARM: O above HIGH, U below LOW, IL between, limits included (NX-FB-40)" $ do
+      runMain nexto levels 2 "al.U" `shouldBe` Right (VBool True)
+      runMain nexto levels 3 "al.IL" `shouldBe` Right (VBool True)
+      runMain nexto levels 4 "al.O" `shouldBe` Right (VBool True)
+      runMain nexto levels 5 "al.IL" `shouldBe` Right (VBool True)
+    it "LIN_TRAFO maps the input range on the output range; ERROR on an empty range or an input outside (NX-FB-38)" $ do
+      let lin i lo hi = runMain nexto ("VAR t : LIN_TRAFO; END_VAR t(IN := " <> i <> ", IN_MIN := " <> lo <> ", IN_MAX := " <> hi <> ", OUT_MIN := 0.0, OUT_MAX := 100.0);") 1
+      -- 14000 * 100 / 30000 = 46.666..., nearest binary32 46.666668
+      lin "14000.0" "0.0" "30000.0" "t.OUT" `shouldBe` Right (VReal 46.666668)
+      lin "15000.0" "0.0" "30000.0" "t.OUT" `shouldBe` Right (VReal 50)
+      lin "14000.0" "0.0" "30000.0" "t.ERROR" `shouldBe` Right (VBool False)
+      lin "10.0" "10.0" "10.0" "t.ERROR" `shouldBe` Right (VBool True)
+      lin "-1.0" "0.0" "30000.0" "t.ERROR" `shouldBe` Right (VBool True)
+      lin "-1.0" "0.0" "30000.0" "t.OUT" `shouldBe` Right (VReal 0)
+    it "CHARCURVE interpolates between the points; ERR 4, 1, 2 (NX-FB-38)" $ do
+      let curve inp n = runMain nexto ("VAR c : CHARCURVE; kl : ARRAY [0..10] OF POINT := [(X := 0, Y := 0), (X := 250, Y := 50), (X := 500, Y := 150), (X := 750, Y := 400), 7((X := 1000, Y := 1000))]; END_VAR c(IN := " <> inp <> ", N := " <> n <> ", P := kl);") 1
+      -- between (500, 150) and (750, 400): slope 1
+      curve "510" "5" "c.OUT" `shouldBe` Right (VInt INT 160)
+      curve "510" "5" "c.ERR" `shouldBe` Right (VInt BYTE 0)
+      -- between (0, 0) and (250, 50): 0 + 100 * 50 / 250 = 20
+      curve "100" "5" "c.OUT" `shouldBe` Right (VInt INT 20)
+      curve "1010" "5" "c.OUT" `shouldBe` Right (VInt INT 1000)
+      curve "1010" "5" "c.ERR" `shouldBe` Right (VInt BYTE 2)
+      curve "-10" "5" "c.ERR" `shouldBe` Right (VInt BYTE 2)
+      curve "100" "1" "c.ERR" `shouldBe` Right (VInt BYTE 4)
+      -- P[4].X = P[5].X = 1000: not increasing
+      curve "100" "7" "c.ERR" `shouldBe` Right (VInt BYTE 1)
+    it "a POU of the program hides a library FB of its name" $
+      runUnit nexto "FUNCTION_BLOCK HYSTERESIS\nVAR_OUTPUT OUT : INT; END_VAR\nOUT := 7;\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR h : HYSTERESIS; END_VAR\nh();\nEND_PROGRAM\n" 1 "MAIN.h.OUT" `shouldBe` Right (VInt INT 7)
+    let clock = "VAR rt : RTC; en : BOOL; k : INT; END_VAR k := k + 1; en := k > 1; rt(EN := en, PDT := DT#2006-03-30-14:00:00);"
+    it "RTC: DT#1970-01-01-00:00:00 and Q FALSE while EN is FALSE (NX-FB-31)" $ do
+      runMain nexto clock 1 "rt.CDT" `shouldBe` Right (VDT 0)
+      runMain nexto clock 1 "rt.Q" `shouldBe` Right (VBool False)
+    it "RTC: from EN's rising edge, PDT plus the whole seconds since (NX-FB-32)" $ do
+      -- the edge in cycle 2 (clock 10 ms); cycle 102 reads 1010 ms: 1 s later
+      runMain nexto clock 2 "rt.CDT" `shouldBe` Right (VDT 1143727200000)
+      runMain nexto clock 101 "rt.CDT" `shouldBe` Right (VDT 1143727200000)
+      runMain nexto clock 102 "rt.CDT" `shouldBe` Right (VDT 1143727201000)
+      runMain nexto clock 102 "rt.Q" `shouldBe` Right (VBool True)
+    it "none of them under standard-library = iec" $
+      fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR h : HYSTERESIS; END_VAR\nh();\nEND_PROGRAM\n") `shouldBe` Just "undeclared-type"

@@ -29,7 +29,7 @@ import Stref.IEC.Conversions (conversionName, convert)
 import Stref.IEC.Memory (Layout (..), sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, standardParameters, standardType)
-import Stref.IEC.StandardFB (standardFBNames, standardFBs)
+import Stref.IEC.StandardFB (libraryTypes, standardFBNames, standardFBs)
 import Stref.IEC.Syntax
 import Stref.IEC.Types
 import Stref.IEC.Values
@@ -119,7 +119,9 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       pous = [p | DPou p <- decls]
       configs = [c | DConfig c <- decls]
       globalBlocks = [b | DGlobals b <- decls] ++ concat [cfgGlobals c ++ concatMap resGlobals (cfgResources c) | c <- configs]
-      std = M.fromList (standardFBs pol)
+      -- a POU of the unit hides a library FB of its name (the library's
+      -- FBs beyond IEC's are not reserved names)
+      std = M.fromList [(k, d) | (k, d) <- standardFBs pol, k `notElem` map (key . pouName) pous]
   -- duplicates and reserved names among the declared names
   let topNames = [(tdPos t, tdName t) | t <- typeDecls] ++ [(pouPos p, pouName p) | p <- pous]
   forM_ topNames $ \(p, n) -> when (reservedName pol n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
@@ -128,7 +130,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   let envBase =
         Env
           { envPol = pol
-          , envTypes = M.fromList [(key (tdName t), t) | t <- typeDecls]
+          , envTypes = M.fromList [(key (tdName t), t) | t <- libraryTypes pol ++ typeDecls]
           , envPous = M.fromList [(key (pouName p), p) | p <- pous]
           , envStd = std
           , envVarsOf = M.empty
@@ -1643,7 +1645,7 @@ callStandard expected p f args = do
     -- BYTE) and formal arguments may come in any order; an input left out
     -- is the type's zero (TC-POU-9)
     libraryCall params result = do
-      let vars = [VarInfo n n SecInput (TElem e) (defaultValue (TElem e)) False Nothing Nothing p | (n, e) <- params]
+      let vars = [VarInfo n n SecInput (TElem e) (defaultValue (TElem e)) False Nothing Nothing p Volatile | (n, e) <- params]
       (inputs, _, outputs) <- bindArgs p f vars args
       unless (null outputs) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")
       let argOf (n, e) = fromMaybe (CExpr p (TElem e) (CConst (defaultValue (TElem e)))) (lookup n inputs)

@@ -3,17 +3,27 @@
 -- instance's variables (inputs already written) to its variables after the
 -- call; timers read the virtual clock.
 --
+-- Under @standard-library = codesys@ also standard.library's RTC
+-- (NX-FB-30..32) and the function blocks of util.library the Nexto manual
+-- documents with their behaviour (UNPACK, HYSTERESIS, LIMITALARM,
+-- LIN_TRAFO, CHARCURVE: NX-FB-37..40), with util.library's structure POINT
+-- ('libraryTypes').
+--
 -- Hidden state (an edge memory, a timer's start) lives in variables whose
 -- names start with @$@, which no program can name.
 module Stref.IEC.StandardFB
   ( standardFBs
   , standardFBNames
+  , libraryTypes
   ) where
 
 import qualified Data.Map.Strict as M
+import Data.Foldable (toList)
+import Data.Bits (testBit)
 import Data.Text (Text)
+import qualified Data.Text as T
 import Stref.IEC.Checked
-import Stref.IEC.Syntax (Pos (..), PouKind (..), Section (..))
+import Stref.IEC.Syntax (Pos (..), PouKind (..), Section (..), TypeDecl (..), TypeSpec (..), VarDecl (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -22,9 +32,39 @@ standardFBNames :: [Text]
 standardFBNames = ["SR", "RS", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "TP", "TON", "TOF"]
 
 -- | The standard FBs under the given policies (F_TRIG's initial memory is a
--- policy, TC-FB-15).
+-- policy, TC-FB-15; the library is policy @standard-library@).
 standardFBs :: Policies -> [(Text, PouDef)]
 standardFBs pol =
+  iecFBs pol ++ case pStandardLibrary pol of
+    LibraryIec -> []
+    LibraryCodesys -> codesysFBs
+
+-- | The types util.library declares, as a declaration would write them,
+-- under @standard-library = codesys@: POINT, a structure of two INTs X and
+-- Y, the points of CHARCURVE (L14160-14165).
+libraryTypes :: Policies -> [TypeDecl]
+libraryTypes pol = case pStandardLibrary pol of
+  LibraryIec -> []
+  LibraryCodesys -> [TypeDecl noPos "POINT" (TSStruct noPos [VarDecl noPos [(noPos, "X"), (noPos, "Y")] Nothing (TSName noPos "INT") Nothing Nothing [] []]) Nothing]
+
+-- | POINT as the checker resolves the declaration of 'libraryTypes'.
+pointType :: Type
+pointType = TStruct "POINT" [("X", TElem INT), ("Y", TElem INT)]
+
+noPos :: Pos
+noPos = Pos 0 0
+
+-- | A native FB: its declared variables (name, section, type), its hidden
+-- ones (name, type, initial value) and its meaning.
+nativeFB :: Text -> [(Text, Section, Type)] -> [(Text, Type, Value)] -> StandardFB -> (Text, PouDef)
+nativeFB n vars hidden meaning =
+  let infos = [VarInfo v v s t (defaultValue t) False Nothing Nothing noPos Volatile | (v, s, t) <- vars]
+      hiddenInfos = [VarInfo h h SecVar t v False Nothing Nothing noPos Volatile | (h, t, v) <- hidden]
+      allVars = infos ++ hiddenInfos
+   in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noPos Nothing True M.empty)
+
+iecFBs :: Policies -> [(Text, PouDef)]
+iecFBs pol =
   [ fb "SR" [inB set1, inB reset, outB "Q1"] [] (sr set1 reset) -- TC-FB-2, NX-FB-1
   , fb "RS" [inB set, inB reset1, outB "Q1"] [] (rs set reset1) -- TC-FB-3, NX-FB-4
   , fb "R_TRIG" [inB "CLK", outB "Q"] [("$M", VBool False)] rTrig -- TC-FB-4
@@ -37,12 +77,7 @@ standardFBs pol =
   , fb "TOF" [inB "IN", inT "PT", outB "Q", outT "ET"] timerState tof -- TC-FB-11
   ]
   where
-    fb n vars hidden meaning =
-      let infos = [VarInfo v v s t (defaultValue t) False Nothing Nothing noP Volatile | (v, s, t) <- vars]
-          hiddenInfos = [VarInfo h h SecVar (TElem BOOL) v False Nothing Nothing noP Volatile | (h, v) <- hidden]
-          allVars = infos ++ hiddenInfos
-       in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noP Nothing True M.empty)
-    noP = Pos 0 0
+    fb n vars hidden = nativeFB n vars [(h, TElem BOOL, v) | (h, v) <- hidden]
     -- the library's names and the counters' type (policy standard-library)
     (set1, reset, set, reset1, load, counter) = case pStandardLibrary pol of
       LibraryIec -> ("S1", "R", "S", "R1", "LD", INT) -- TC-FB-13: PV and CV are INT
@@ -196,3 +231,116 @@ timerTP _ now s0 =
                 then setB "$RUN" False (setB "Q" False (setT "ET" (if bool "IN" s1 then pt else 0) s1))
                 else setB "Q" True (setT "ET" elapsed s1)
         else if bool "IN" s then s else setT "ET" 0 (setB "Q" False s)
+
+------------------------------------------------------------------------
+-- CODESYS: standard.library's RTC and util.library (standard-library =
+-- codesys)
+
+codesysFBs :: [(Text, PouDef)]
+codesysFBs =
+  [ nativeFB "RTC" [inp "EN" BOOL, inp "PDT" DT, out "Q" BOOL, out "CDT" DT] [("$EN", TElem BOOL, VBool False), ("$START", TElem LINT, VInt LINT 0), ("$BASE", TElem DT, VDT 0)] rtc -- NX-FB-30
+  , nativeFB "UNPACK" (inp "B" BYTE : [out (bitName i) BOOL | i <- [0 .. 7]]) [] unpack -- NX-FB-37
+  , nativeFB "HYSTERESIS" [inp "IN" INT, inp "HIGH" INT, inp "LOW" INT, out "OUT" BOOL] [] hysteresis -- NX-FB-39
+  , nativeFB "LIMITALARM" [inp "IN" INT, inp "HIGH" INT, inp "LOW" INT, out "O" BOOL, out "U" BOOL, out "IL" BOOL] [] limitAlarm -- NX-FB-40
+  , nativeFB "LIN_TRAFO" [inp "IN" REAL, inp "IN_MIN" REAL, inp "IN_MAX" REAL, inp "OUT_MIN" REAL, inp "OUT_MAX" REAL, out "OUT" REAL, out "ERROR" BOOL] [] linTrafo -- NX-FB-38
+  , nativeFB "CHARCURVE" [inp "IN" INT, inp "N" BYTE, ("P", SecInput, TArray [(0, 10)] pointType), out "OUT" INT, out "ERR" BYTE] [] charCurve -- NX-FB-38
+  ]
+  where
+    inp n e = (n, SecInput, TElem e)
+    out n e = (n, SecOutput, TElem e)
+
+bitName :: Int -> Text
+bitName i = "B" <> T.pack (show i)
+
+-- | NX-FB-30..32 (L13501-13546): while EN is FALSE, Q is FALSE and CDT is
+-- DT#1970-01-01-00:00:00; on EN's rising edge CDT takes PDT and from then
+-- on counts the whole seconds the clock advanced since that edge; Q is TRUE
+-- while EN is (CDT "is incrementing"). Decision: PDT is read at the edge
+-- only.
+rtc :: StandardFB
+rtc _ now s
+  | not (bool "EN" s) = setB "$EN" False (setB "Q" False (M.insert "CDT" (VDT 0) s))
+  | otherwise =
+      let s1
+            | bool "$EN" s = s
+            | otherwise = M.insert "$BASE" (M.findWithDefault (VDT 0) "PDT" s) (setI LINT "$START" now (setB "$EN" True s))
+          base = case M.lookup "$BASE" s1 of
+            Just (VDT ms) -> ms
+            _ -> 0
+          seconds = (now - int "$START" s1) `div` 1000
+       in setB "Q" True (M.insert "CDT" (VDT (base + seconds * 1000)) s1)
+
+-- | NX-FB-37 (L13655-13660): the bits of the BYTE B in B0 (bit 0) .. B7.
+unpack :: StandardFB
+unpack _ _ s = foldr (\i -> setB (bitName i) (testBit (int "B" s) i)) s [0 .. 7]
+
+-- | NX-FB-39 (L14246-14260): OUT becomes TRUE when IN is below LOW and
+-- FALSE when IN exceeds HIGH; otherwise (IN = LOW, IN = HIGH, in between)
+-- it keeps its value.
+hysteresis :: StandardFB
+hysteresis _ _ s
+  | int "IN" s < int "LOW" s = setB "OUT" True s
+  | int "IN" s > int "HIGH" s = setB "OUT" False s
+  | otherwise = s
+
+-- | NX-FB-40 (L14266-14278): O when IN exceeds HIGH, U when IN is below
+-- LOW, IL otherwise (IN between the limits, both included). Decision: with
+-- LOW above HIGH an IN beyond both is O (the first test wins).
+limitAlarm :: StandardFB
+limitAlarm _ _ s =
+  let x = int "IN" s
+      o = x > int "HIGH" s
+      u = not o && x < int "LOW" s
+   in setB "IL" (not o && not u) (setB "U" u (setB "O" o s))
+
+-- | NX-FB-38 (L13710-13745): OUT lies in OUT_MIN..OUT_MAX as IN lies in
+-- IN_MIN..IN_MAX, @(IN - IN_MIN) * (OUT_MAX - OUT_MIN) / (IN_MAX - IN_MIN) +
+-- OUT_MIN@ in REAL (each operation rounded to binary32). ERROR when IN_MIN
+-- = IN_MAX or IN is below IN_MIN or above IN_MAX. Decision: with ERROR, OUT
+-- keeps its value (the manual does not say what it holds).
+linTrafo :: StandardFB
+linTrafo _ _ s
+  | lo == hi || x < lo || x > hi = setB "ERROR" True s
+  | otherwise = setB "ERROR" False (M.insert "OUT" (VReal ((x - lo) * (ohi - olo) / (hi - lo) + olo)) s)
+  where
+    real k = case M.lookup k s of
+      Just (VReal r) -> r
+      _ -> 0
+    x = real "IN"
+    lo = real "IN_MIN"
+    hi = real "IN_MAX"
+    olo = real "OUT_MIN"
+    ohi = real "OUT_MAX"
+
+-- | NX-FB-38 (L14155-14203): the curve through the points P[0]..P[N-1],
+-- read at IN. ERR 4 when N is not within 2..11; else ERR 1 when the points'
+-- X do not increase; else ERR 2 and the nearer end point's Y when IN lies
+-- before P[0].X or beyond P[N-1].X; else ERR 0 and the line between the
+-- two points around IN. Decisions: X must increase strictly (a segment of
+-- width 0 has no slope); the line is @Y0 + (IN - X0) * (Y1 - Y0) / (X1 -
+-- X0)@ computed exactly, the division truncating toward zero, the result
+-- kept in INT by its low bits; with ERR 4 or 1 OUT keeps its value.
+charCurve :: StandardFB
+charCurve _ _ s
+  | n < 2 || n > 11 = err 4 s
+  | or (zipWith (>=) xs (drop 1 xs)) = err 1 s
+  | x < head xs = err 2 (outI (head ys))
+  | x > last xs = err 2 (outI (last ys))
+  | otherwise = err 0 (outI (line (zip pts (drop 1 pts))))
+  where
+    n = int "N" s
+    x = int "IN" s
+    pts = take (fromInteger n) points
+    xs = map fst pts
+    ys = map snd pts
+    points = case M.lookup "P" s of
+      Just (VArray _ vs) -> [(field "X" v, field "Y" v) | v <- toList vs]
+      _ -> []
+    field k = \case
+      VStruct fs | Just (VInt _ v) <- M.lookup k fs -> v
+      _ -> 0
+    err e = setI BYTE "ERR" e
+    outI v = setI INT "OUT" (wrapInt INT v) s
+    line segs = case [seg | seg@(_, (x1, _)) <- segs, x <= x1] of
+      ((x0, y0), (x1, y1)) : _ -> y0 + ((x - x0) * (y1 - y0)) `quot` (x1 - x0)
+      [] -> last ys
