@@ -188,3 +188,9 @@ spec = describe "the nexto dialect's conversions and library (standard-library =
       runMain nexto clock 102 "rt.Q" `shouldBe` Right (VBool True)
     it "none of them under standard-library = iec" $
       fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR h : HYSTERESIS; END_VAR\nh();\nEND_PROGRAM\n") `shouldBe` Just "undeclared-type"
+  describe "LTIME literals (NX-LEX-41)" $ do
+    it "an LTIME# literal is an LTIME of nanoseconds (NX-LEX-41)" $ do
+      -- 1 ms 2 us 44 ns = 1000000 + 2000 + 44 ns
+      assigned "LTIME" "LTIME#1ms2us44ns" `shouldBe` Right (VTime LTIME 1002044)
+      assigned "LINT" "LTIME_TO_LINT(LTIME#2us44ns)" `shouldBe` Right (VInt LINT 2044)
+      fmap fst (rejectKind nexto "PROGRAM MAIN\nVAR x : TIME; END_VAR\nx := LTIME#5ms;\nEND_PROGRAM\n") `shouldBe` Just "type-mismatch"

@@ -1383,6 +1383,9 @@ literal p = \case
     case (baseElem ty, l) of -- TC-LEX-24
       (Just BOOL, LInt n) | n == 0 || n == 1 -> fixed p ty (CConst (VBool (n == 1)))
       (Just BOOL, LBool b) -> fixed p ty (CConst (VBool b))
+      (Just LTIME, LTime ns) -> do
+        unless (fitInt LTIME ns) (failC "value-out-of-limits" p "the duration lies outside the range of LTIME (NX-TYPE-33)")
+        fixed p ty (CConst (VTime LTIME ns))
       (_, LInt _) -> typed ty l
       (_, LReal _ _) -> typed ty l
       (_, LString s) | TString {} <- ty -> fixed p ty (CConst (VString s))

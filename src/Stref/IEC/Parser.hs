@@ -433,7 +433,9 @@ prefixed pol = do
   w <- try (takeWhile1P Nothing isWordChar <* char '#')
   case T.toUpper w of
     u
-      | u `elem` ["T", "TIME", "LT", "LTIME"] -> lexeme pol (ELit p . LTime <$> durationBody) <?> "a duration such as 1h2m3s"
+      | u `elem` ["T", "TIME"] -> lexeme pol (ELit p . LTime <$> durationBody) <?> "a duration such as 1h2m3s"
+      -- NX-LEX-41, NX-TYPE-33: an LTIME, nanoseconds in 64 bits
+      | u `elem` ["LT", "LTIME"] -> lexeme pol (ELit p . LTyped "LTIME" . LTime <$> durationBody) <?> "a duration such as 1h2m3s"
       | u `elem` ["D", "DATE"] -> lexeme pol (ELit p . LDate <$> dateBody) <?> "a date such as 2003-06-21"
       | u `elem` ["TOD", "TIME_OF_DAY"] -> lexeme pol (ELit p . LTod <$> todBody) <?> "a time of day such as 06:32:15.08"
       | u `elem` ["DT", "DATE_AND_TIME"] -> lexeme pol (do d <- dateBody; _ <- char '-'; t <- todBody; pure (ELit p (LDT (d + t)))) <?> "a date and time such as 2003-06-21-11:38:52.35"
