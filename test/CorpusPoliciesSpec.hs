@@ -20,7 +20,7 @@ import qualified Data.Text as T
 import Stref.Conformance.Case
 import Stref.Conformance.Corpus
 import Stref.Conformance.Runner
-import Stref.Policy (Policies, PolicyInfo (..), mastertoolXE, policyTable, setPolicy, tecomat)
+import Stref.Policy (Policies, PolicyInfo (..), mastertoolXE, nexto, policyTable, setPolicy, tecomat)
 import Test.Hspec
 
 -- | Every alternative that differs from the MasterTool XE preset.
@@ -61,6 +61,14 @@ alternatives =
 interfacePolicies :: [Text]
 interfacePolicies = ["lifetime", "standard-library", "reserved-names"]
 
+-- | For the nexto corpus also the policies that take parts of CODESYS's
+-- language away (extensions, bit-string arithmetic, program calls, writing
+-- an FB's inputs and outputs) or change what an enumerated value is: a case
+-- in CODESYS's language is not a program without them (IEC.NextoSpec runs
+-- their alternatives).
+codesysInterface :: [Text]
+codesysInterface = ["extensions", "enumerations", "bit-string-arithmetic", "program-calls", "fb-access"]
+
 policiesWith :: (Text, Text) -> Policies
 policiesWith (k, v) = either (error . T.unpack) id (setPolicy k v mastertoolXE)
 
@@ -90,10 +98,13 @@ spec :: Spec
 spec = do
   corpus <- runIO (loadCorpus ["conformance/mastertool-xe"])
   tecomatCorpus <- runIO (loadCorpus ["conformance/tecomat"])
+  nextoCorpus <- runIO (loadCorpus ["conformance/nexto"])
   describe "the corpus under every policy alternative (reference, declared = run)" $
     mapM_ (sweep corpus) alternatives
   describe "the tecomat corpus under every policy alternative (the preset with one choice changed)" $
     mapM_ (sweepDialect tecomatCorpus) (filter ((`notElem` interfacePolicies) . fst) (alternativesFrom tecomat) ++ [("identifier-length", "unlimited")])
+  describe "the nexto corpus under every policy alternative (the preset with one choice changed)" $
+    mapM_ (sweepDialect nextoCorpus) (filter ((`notElem` (interfacePolicies ++ codesysInterface)) . fst) (alternativesFrom nexto))
   describe "an engine that wraps on overflow, judged under the preset" $
     it "fails exactly the cases whose overflow=wrap expectation differs from expect" $ do
       bin <- strefBinary

@@ -40,6 +40,7 @@ module Stref.Policy
   , BitStringArithmetic (..)
   , ProgramCalls (..)
   , FBAccess (..)
+  , SubrangeInitial (..)
   , Model (..)
   , mastertoolXE
   , tecomat
@@ -211,6 +212,12 @@ data ProgramCalls = ProgramCallsForbidden | ProgramCallsAllowed
 data FBAccess = AccessIec | AccessCodesys
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | The initial value of a subrange variable declared without one: its
+-- lower bound (IEC: TC-TYPE-21), or 0 when the range holds 0 (CODESYS:
+-- "the default initial value is 0 for all declarations", NX-TYPE-35).
+data SubrangeInitial = SubrangeLowerBound | SubrangeZero
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 -- | The controller a dialect runs on: MasterTool's (operand tables, CHF
 -- parameters, per-call initialisation, the diagnostic band) or IEC
 -- 61131-3's (program instances, tasks, a clock). Part of the preset, not a
@@ -262,6 +269,7 @@ data Policies = Policies
   , pBitStringArithmetic :: !BitStringArithmetic
   , pProgramCalls :: !ProgramCalls
   , pFBAccess :: !FBAccess
+  , pSubrangeInitial :: !SubrangeInitial
   }
   deriving (Eq, Show)
 
@@ -309,6 +317,7 @@ mastertoolXE =
     , pBitStringArithmetic = BitArithmeticNo
     , pProgramCalls = ProgramCallsForbidden
     , pFBAccess = AccessIec
+    , pSubrangeInitial = SubrangeLowerBound
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -353,6 +362,7 @@ tecomat =
     , pBitStringArithmetic = BitArithmeticNo -- TC-OP-12
     , pProgramCalls = ProgramCallsForbidden -- TC-POU-44
     , pFBAccess = AccessIec -- TC-VAR-1, TC-POU-24
+    , pSubrangeInitial = SubrangeLowerBound -- TC-TYPE-21
     }
 
 -- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
@@ -396,6 +406,7 @@ nexto =
     , pBitStringArithmetic = BitArithmeticYes -- NX-OP-23, NX-OP-30
     , pProgramCalls = ProgramCallsAllowed -- NX-POU-2..4
     , pFBAccess = AccessCodesys -- NX-POU-19
+    , pSubrangeInitial = SubrangeZero -- NX-TYPE-35
     }
 
 -- | Named presets: each dialect is an entry here, not a fork of the code.
@@ -480,6 +491,7 @@ policyTable =
   , enumPolicy "bit-string-arithmetic" ["no", "yes"] pBitStringArithmetic (\v p -> p {pBitStringArithmetic = v})
   , enumPolicy "program-calls" ["forbidden", "allowed"] pProgramCalls (\v p -> p {pProgramCalls = v})
   , enumPolicy "fb-access" ["iec", "codesys"] pFBAccess (\v p -> p {pFBAccess = v})
+  , enumPolicy "subrange-initial" ["lower-bound", "zero"] pSubrangeInitial (\v p -> p {pSubrangeInitial = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

@@ -448,7 +448,10 @@ declVars kind sec constant retention d = do
 resolveDefault :: TypeSpec -> C Value
 resolveDefault spec = do
   ty <- resolveType spec
+  pol <- asks envPol
   case spec of
+    -- policy subrange-initial (TC-TYPE-21, NX-TYPE-35)
+    _ | TSubrange e lo hi <- ty, pSubrangeInitial pol == SubrangeZero, lo <= 0, 0 <= hi, not (isNamed spec) -> pure (VInt e 0)
     TSName _ n | Nothing <- parseElemName n -> do
       types <- asks envTypes
       depth <- asks envTypeDepth
@@ -475,6 +478,12 @@ resolveDefault spec = do
         VArray bs xs -> VArray bs (fmap (const e) xs)
         v -> v
     _ -> pure (defaultValue ty)
+
+-- | A type given by name (whose TYPE may state its own initial value).
+isNamed :: TypeSpec -> Bool
+isNamed = \case
+  TSName {} -> True
+  _ -> False
 
 instanceValue :: Text -> C Value
 instanceValue n = do
@@ -1523,11 +1532,14 @@ callExpr expected p f args
               Just (_, ty, _) -> pure ty
               Nothing -> resolveType (TSName vp n)
           _ -> ceType . fst <$> infer Nothing x
-        n <- case pExtensions pol of
-          ExtensionsNone -> pure (sizeOf t)
-          -- NX-OP-34: as the pointers see the bytes (Stref.IEC.Memory)
-          ExtensionsCodesys -> pointerStep t
-        pure (CExpr p (TElem DINT) (CConst (VInt DINT n)), FlexInt n)
+        case pExtensions pol of
+          ExtensionsNone -> let n = sizeOf t in pure (CExpr p (TElem DINT) (CConst (VInt DINT n)), FlexInt n)
+          ExtensionsCodesys -> do
+            -- NX-OP-34: the bytes as the pointers see them (Stref.IEC.Memory),
+            -- a USINT below 256, a UINT below 65536, then UDINT, ULINT
+            n <- pointerStep t
+            let e = head ([e' | e' <- [USINT, UINT, UDINT], fitInt e' n] ++ [ULINT])
+            pure (CExpr p (TElem e) (CConst (VInt e n)), Fixed)
       _ -> failC "too-many-arguments" p "SIZEOF takes one variable"
   | key f == "TRUNC" = do
       -- TC-CONV-7: TRUNC gives an ANY_INT; the context chooses which

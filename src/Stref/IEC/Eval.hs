@@ -436,7 +436,11 @@ forLoop p r t start end step body = do
             stNow <- current st0 stepOf
             let elemT = fromMaybe DINT (valueElem i')
                 next = intOf i' + intOf stNow
-            if not (fitInt elemT next) && pForAtTypeMax pol == StopAtEnd
+                -- a subrange's bounds are its type's limits (NX-STMT-22)
+                fits = case t of
+                  TSubrange _ lo hi -> next >= lo && next <= hi
+                  _ -> fitInt elemT next
+            if not fits && pForAtTypeMax pol == StopAtEnd
               then pure ()
               else do
                 v <- orFault p (binary pol BAdd i' (VInt elemT (intOf stNow)))
