@@ -191,6 +191,19 @@ checkUnit pol choice (Unit decls) = runExcept $ do
         [p] -> pure [(pouName p, key (pouName p))]
         [] -> throwError (VerificationError "no-program" (Pos 1 1) "the file has no PROGRAM to run")
         (_ : p : _) -> throwError (VerificationError "several-programs" (pouPos p) "the file has several PROGRAMs and no CONFIGURATION: say which one runs")
+  -- NX-VAR-26..28: the globals' computed initial values, list by list in
+  -- the order of global_init_slot (default 50000, lower first); a value
+  -- may use the globals of its own list declared before it and those of
+  -- lists with a lower slot, else the order is undefined: a compile error
+  let slotOf b = maybe 50000 (\t -> fromMaybe 50000 (readMaybeInt t)) (attributeValue "global_init_slot" (vbAttributes b))
+      ordered = sortOn (\(i, (b, _)) -> (slotOf b, i)) (zip [0 :: Int ..] perBlock)
+  globalInits <- fmap concat . forM ordered $ \(_, (b, vs)) -> do
+    inits <- runReaderT (checkInits [(b, d) | d <- vbDecls b]) env1
+    let mine = map (key . viName) vs
+        earlierOk k = k `elem` mine || slotOf b > maybe 50000 slotOf (lookup k [(key (viName v), bb) | (bb, bvs) <- perBlock, v <- bvs])
+    forM_ inits $ \(k, _, ce) -> forM_ (globalsRead ce) $ \g ->
+      unless (earlierOk g) $ throwError (VerificationError "global-init-order" (cePos ce) ("the initial value of " <> k <> " uses " <> g <> " of another global list that is not initialised first; give that list a lower global_init_slot (NX-VAR-27, NX-VAR-28)"))
+    pure [(maybe k id (lookup k [(key (viName v), viKey v) | (_, _, vs) <- gvls, v <- vs]), t, ce) | (k, t, ce) <- inits]
   -- NX-POU-1..4: every PROGRAM has one instance, the configuration's or
   -- its own name's, which the tasks run and other POUs may call
   let programRoots = instances ++ [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram, key (pouName p) `notElem` map snd instances]
@@ -216,6 +229,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prRoots = programRoots
       , prTaskInterval = interval
       , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
+      , prGlobalInits = globalInits
       , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where
@@ -290,6 +304,28 @@ pouVariables p = do
   forM_ vs $ \v -> when (viKey v `elem` map viKey inherited) $
     failC "redeclared-inherited" (viPos v) ("'" <> viName v <> "' is a variable of the base function block already; a derived FB cannot declare it again (NX-POU-45)")
   pure (inherited ++ vs ++ result)
+
+-- | The globals an expression reads, by key.
+globalsRead :: CExpr -> [Text]
+globalsRead ce = case ceNode ce of
+  CRead r -> fromRef r
+  CUnary _ a -> globalsRead a
+  CBinary _ a b -> globalsRead a ++ globalsRead b
+  CConvert _ a -> globalsRead a
+  CStandard _ as -> concatMap globalsRead as
+  CCall _ ins _ _ -> concatMap (globalsRead . snd) ins
+  _ -> []
+  where
+    fromRef = \case
+      CGlobal k -> [k]
+      CField r _ -> fromRef r
+      CIndex r ixs -> fromRef r ++ concatMap globalsRead ixs
+      _ -> []
+
+readMaybeInt :: Text -> Maybe Integer
+readMaybeInt t = case reads (T.unpack (T.strip t)) of
+  [(n, "")] -> Just n
+  _ -> Nothing
 
 -- | CODESYS: each top-level VAR_GLOBAL block is a global list (GVL),
 -- named by the attribute gvl_name (docs/nexto.md), qualified_only or not.
@@ -437,7 +473,14 @@ declVars kind sec constant retention d = do
     (Just l, TElem BOOL) | locationType l /= TElem BOOL -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
     _ -> pure ()
   base <- resolveDefault (vdType d)
-  initV <- maybe (pure base) (initialValue ty base) (vdInit d)
+  -- NX-VAR-24: under CODESYS an initial value may use variables and calls;
+  -- one that is no constant is computed when the controller starts
+  -- (checkInits), the type's default standing for it here
+  initV <- case vdInit d of
+    Nothing -> pure base
+    Just i@(IExpr _) | pExtensions pol == ExtensionsCodesys -> initialValue ty base i `catchError` \e ->
+      if veKind e `elem` ["not-a-constant", "undeclared-variable", "undeclared-function", "read-not-allowed"] then pure base else throwError e
+    Just i -> initialValue ty base i
   case vdNames d of
     [] -> pure [VarInfo (maybe "" locText (vdAt d)) (maybe "" locText (vdAt d)) sec ty initV constant (vdAt d) Nothing (vdPos d) retention]
     ns -> pure [VarInfo n (key n) sec ty initV constant (vdAt d) (vdEdge d) p retention | (p, n) <- ns]
@@ -465,6 +508,12 @@ resolveDefault spec = do
         Nothing -> case ty of
           TFB fb -> instanceValue fb
           _ -> pure (defaultValue ty)
+    TSExtends p b own -> do
+      baseValue <- resolveDefault (TSName p b)
+      ownValue <- resolveDefault own
+      pure $ case (baseValue, ownValue) of
+        (VStruct m1, VStruct m2) -> VStruct (M.union m2 m1)
+        _ -> ownValue
     TSStruct _ ds -> do
       fields <- forM ds $ \d -> do
         ft <- resolveType (vdType d)
@@ -570,6 +619,19 @@ resolveType = \case
               ((n, x) :) <$> go (x + 1) rest
         TNumEnum "" e <$> go 0 items
   TSPointer _ t -> TPointer <$> resolveType t
+  TSExtends p b spec -> do
+    -- NX-TYPE-55: the base structure's members first, none declared again
+    base <- resolveType (TSName p b)
+    own <- resolveType spec
+    case (base, own) of
+      (TStruct _ bfs, TStruct _ ofs) -> do
+        let at f = case spec of
+              TSStruct _ ds | (fp : _) <- [np | d <- ds, (np, n) <- vdNames d, key n == key f] -> fp
+              _ -> p
+        forM_ ofs $ \(f, _) -> when (key f `elem` map (key . fst) bfs) $
+          failC "redeclared-inherited" (at f) ("the member " <> f <> " is a member of " <> b <> " already (NX-TYPE-55)")
+        pure (TStruct "" (bfs ++ ofs))
+      _ -> failC "type-mismatch" p "a structure extends a structure (NX-TYPE-55)"
   TSSubrange p n (a, b) -> do
     base <- resolveType (TSName p n)
     lo <- constInt a
@@ -672,6 +734,7 @@ checkPou p = do
       Nothing -> failC "external-mismatch" (viPos v) ("VAR_EXTERNAL " <> viName v <> " names no global variable (NX-VAR-13, NX-ERR-32)")
   body <- checkStmts (pouBody p)
   members <- checkMembers p
+  inits <- checkInits [(b, d) | b <- pouVars p, d <- vbDecls b]
   let vars = M.elems locals
       ordered = sortOn viPos vars
   pure
@@ -684,9 +747,28 @@ checkPou p = do
       , pdBody = Statements body
       , pdEndPos = pouEnd p
       , pdBase = key . snd <$> pouExtends p
+      , pdInits = inits
       , pdChecked = key (pouName p) `notElem` checkFunctionNames && isNothing (attributeValue "no_check" (pouAttributes p)) -- NX-PRAGMA-8
       , pdMethods = members
       }
+
+-- | NX-VAR-24, NX-VAR-25: the initial values that are no constants,
+-- checked as expressions of the scope, in declaration order.
+checkInits :: [(VarBlock, VarDecl)] -> C [(Text, Type, CExpr)]
+checkInits decls = do
+  pol <- asks envPol
+  if pExtensions pol /= ExtensionsCodesys
+    then pure []
+    else fmap concat . forM decls $ \(_, d) -> case vdInit d of
+      Just (IExpr e) -> do
+        ty <- resolveType (vdType d)
+        isConst <- (True <$ constValue (Just ty) e) `catchError` const (pure False)
+        if isConst
+          then pure []
+          else do
+            ce <- checkExprAt (Just ty) e >>= assignable ty
+            pure [(key n, ty, ce) | (_, n) <- vdNames d]
+      _ -> pure []
 
 -- | The bodies of a POU's methods, accessors and actions. A method runs in
 -- a frame of its own and reaches its instance's variables (but not its
@@ -713,6 +795,7 @@ checkMembers p = do
                   , pdBody = Statements body
                   , pdEndPos = end'
                   , pdBase = Nothing
+                  , pdInits = []
                   , pdChecked = True
                   , pdMethods = M.empty
                   }
@@ -727,7 +810,7 @@ checkMembers p = do
       pure (g ++ st)
     MAction ap n stmts -> do
       body <- local (\e -> e {envLoop = False, envLabels = Set.empty}) (checkStmts stmts)
-      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing True M.empty)]
+      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing [] True M.empty)]
   pure (M.fromList (concat defs))
 
 checkStmts :: [Stmt] -> C [CStmt]
@@ -1651,9 +1734,10 @@ callStandard expected p f args = do
     userCall pou = do
       vars <- asks (fromMaybe [] . M.lookup (key (pouName pou)) . envVarsOf)
       (inputs, inouts, outputs) <- bindArgs p (pouName pou) vars args
-      unless (null outputs) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")
+      pol <- asks envPol
+      unless (null outputs || pExtensions pol == ExtensionsCodesys) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")
       let result = fromMaybe (TElem BOOL) (viType <$> find ((== key (pouName pou)) . viKey) vars)
-      fixed p result (CCall (key (pouName pou)) inputs inouts)
+      fixed p result (CCall (key (pouName pou)) inputs inouts outputs)
     -- util.library's functions and TIME() (standard-library = codesys,
     -- NX-FB-34..37, NX-OP-87): bound as a user function's parameters, so
     -- that untyped literals take the parameters' types (BCD_TO_INT(73): a

@@ -42,6 +42,7 @@ data Program = Program
   , prInstances :: [(Text, Text)] -- ^ program instances run each cycle, in order: instance name, program type key
   , prTaskInterval :: Maybe Integer -- ^ the interval of the configuration's task, milliseconds, if it states one
   , prGvls :: Map Text (Map Text Text) -- ^ CODESYS: each named global list's variables, by key, and where each is stored (NX-VAR-35)
+  , prGlobalInits :: [(Text, Type, CExpr)] -- ^ CODESYS: the globals' initial values that are not constants, in the order the lists initialise (NX-VAR-26, NX-VAR-27)
   , prChecks :: [Text] -- ^ the implicit check functions the program declares, by key (NX-ERR-1)
   }
 
@@ -86,6 +87,7 @@ data PouDef = PouDef
   , pdBody :: Body
   , pdEndPos :: Pos
   , pdBase :: Maybe Text -- ^ the FB it extends, by key (NX-POU-44)
+  , pdInits :: [(Text, Type, CExpr)] -- ^ CODESYS: initial values that are not constants, in declaration order (NX-VAR-24)
   , pdChecked :: Bool -- ^ do the implicit check functions apply in its body? (not in themselves, nor under no_check: NX-ERR-3, NX-ERR-4)
   , pdMethods :: Map Text PouDef -- ^ its own methods, property accessors and actions, by key
   }
@@ -115,7 +117,9 @@ data CNode
   | CBinary BinOp CExpr CExpr
   | CConvert Type CExpr -- ^ a conversion to the node's type from the operand's
   | CStandard Text [CExpr] -- ^ a standard function by key, its arguments in order
-  | CCall Text [(Text, CExpr)] [(Text, CRef)] -- ^ a user function: inputs by parameter key, in-outs by reference
+  | CCall Text [(Text, CExpr)] [(Text, CRef)] [(Text, CRef, Type)]
+  -- ^ a user function: inputs by parameter key, in-outs by reference, and
+  -- (CODESYS, NX-POU-13) outputs bound with @=>@
   | CAddressOf CRef -- ^ CODESYS: @ADR(x)@ (NX-TYPE-75, NX-OP-68)
   | CMethod Dispatch CRef [(Text, CExpr)] [(Text, CRef)] [(Text, CRef, Type)]
   -- ^ a method, accessor or action of an instance: its inputs, in-outs and

@@ -60,7 +60,8 @@ runProgram pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
   pure $ do
-    m0 <- foldM (setPath pol prog) (initialMachine prog) initial
+    let (started, initError) = initialize pol prog (initialMachine prog)
+    m0 <- foldM (setPath pol prog) started initial
     let go m k err [] = Right (RunResult prog m err (k - 1))
         go m k err (Reset ev : rest) = go (resetMachine ev prog m) k err rest
         go m k err (Scan sets : rest) = do
@@ -70,7 +71,9 @@ runProgram pol file src choice cycle initial calls = do
           case stop of
             Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k)
             _ -> go m2 (k + 1) err' rest
-    go m0 1 Nothing calls
+    case initError of
+      Just e -> Right (RunResult prog m0 (Just (1, e)) 0)
+      Nothing -> go m0 1 Nothing calls
 
 -- | Write a variable or a located variable before a cycle.
 setPath :: Policies -> Program -> Machine -> (Text, Scalar) -> Either Text Machine

@@ -6,6 +6,7 @@ module Stref.IEC.Eval
   ( Machine (..)
   , initialMachine
   , runCycle
+  , initialize
   , readVariablePath
   , writeVariablePath
   , readLocatedVar
@@ -126,6 +127,27 @@ resetMachine ev prog m =
       VInstance t fs | Just d <- lookupPou prog t ->
         VInstance t (M.mapWithKey (\k x -> maybe x (`resetVar` x) (varByKey d k)) fs)
       v -> v
+
+-- | NX-VAR-24..28: the initial values computed when the controller
+-- starts, after the constant ones: the globals' (list by list), then every
+-- program instance's and, inside it, every FB instance's, each in
+-- declaration order.
+initialize :: Policies -> Program -> Machine -> (Machine, Maybe Stop)
+initialize pol prog m0 =
+  let ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
+      run = do
+        forM_ (prGlobalInits prog) $ \(k, t, ce) -> eval ce >>= storePath (cePos ce) t (RefPath (RootGlobal k) [])
+        forM_ [(v, fb) | v <- prGlobals prog, TFB fb <- [viType v]] $ \(v, fb) -> instanceInits (RefPath (RootGlobal (viKey v)) []) fb
+        forM_ (prRoots prog) $ \(inst, t) -> instanceInits (RefPath (RootProgram (key inst)) []) t
+      instanceInits path t = case lookupPou prog t of
+        Just d -> local (\c -> c {cxSelf = path, cxThis = path}) $ do
+          forM_ (pdInits d) $ \(k, ty, ce) -> eval ce >>= storePath (cePos ce) ty (extend path (StepField k))
+          forM_ [(v, fb) | v <- pdVars d, TFB fb <- [viType v]] $ \(v, fb) -> instanceInits (extend path (StepField (viKey v))) fb
+        Nothing -> pure ()
+      (r, m) = runState (runExceptT (runReaderT run ctx)) m0 {mSteps = 0}
+   in case r of
+        Left (SigFault p f) -> (m, Just (StopFault p f))
+        _ -> (m, Nothing)
 
 -- | One scan cycle at the given clock: each program instance in order.
 runCycle :: Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
@@ -251,16 +273,16 @@ asBool = \case
 -- values (inputs not given keep their defaults, TC-POU-9), the body, the
 -- value of the variable named like the function (TC-STMT-8; unassigned: the
 -- type's default, TC-STMT-40).
-callFunction :: Pos -> Text -> [(Text, CExpr)] -> [(Text, CRef)] -> Eval Value
-callFunction p f ins inouts = do
+callFunction :: Pos -> Text -> [(Text, CExpr)] -> [(Text, CRef)] -> [(Text, CRef, Type)] -> Eval Value
+callFunction p f ins inouts outs = do
   prog <- asks cxProgram
   d <- maybe (fault p (Fault "call-depth" ("unknown function " <> f))) pure (lookupPou prog f)
   inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
   refs <- forM inouts $ \(k, r) -> (k,r,) <$> refPath p r
-  callFunctionWith p d inputs refs
+  callFunctionWith p d inputs refs outs
 
-callFunctionWith :: Pos -> PouDef -> [(Text, Value)] -> [(Text, CRef, RefPath)] -> Eval Value
-callFunctionWith p d inputs refs = do
+callFunctionWith :: Pos -> PouDef -> [(Text, Value)] -> [(Text, CRef, RefPath)] -> [(Text, CRef, Type)] -> Eval Value
+callFunctionWith p d inputs refs outs = do
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
   let frame = RefPath (RootFrame (depth + 1)) []
@@ -269,6 +291,11 @@ callFunctionWith p d inputs refs = do
   bindInOuts frame refs
   local (\cx -> cx {cxSelf = frame, cxDepth = depth + 1}) (callBody d)
   copyBack frame refs
+  -- NX-POU-13: the outputs bound with => are copied after the body
+  forM_ outs $ \(k, x, t) -> do
+    v <- getPath (extend frame (StepField k))
+    target <- refPath p x
+    storeTarget p t x target v
   result <- getPath (extend frame (StepField (key (pdName d))))
   modify' (\m -> m {mFrames = M.delete (depth + 1) (mFrames m)})
   pure result
@@ -285,7 +312,7 @@ implicitCheck p name args = do
       pol <- asks cxPol
       let params = [v | v <- pdVars d, viSection v == SecInput]
       inputs <- forM (zip params args) $ \(v, a) -> (viKey v,) <$> orFault p (convertValue pol (viType v) a)
-      Just <$> callFunctionWith p d inputs []
+      Just <$> callFunctionWith p d inputs [] []
     _ -> pure Nothing
 
 -- | A value converted to a type, as an implicit conversion would.
@@ -491,7 +518,7 @@ eval ce = case ceNode ce of
     pol <- asks cxPol
     vs <- mapM eval args
     orFault (cePos ce) (standard pol f (map ceType args) vs)
-  CCall f ins inouts -> callFunction (cePos ce) f ins inouts
+  CCall f ins inouts outs -> callFunction (cePos ce) f ins inouts outs
   CMethod d r ins inouts outs -> callMethod (cePos ce) d r ins inouts outs
   CAddressOf r -> do
     path <- refPath (cePos ce) r

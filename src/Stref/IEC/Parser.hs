@@ -516,8 +516,10 @@ attributes pol
 typeDecl :: Policies -> Parser TypeDecl
 typeDecl pol = do
   (p, n) <- identifier pol
+  base <- if codesys pol then optional (kw pol "EXTENDS" *> identifier pol) else pure Nothing
   symbol pol ":"
-  spec <- typeSpec pol
+  spec0 <- typeSpec pol
+  let spec = maybe spec0 (\(bp, b) -> TSExtends bp b spec0) base
   i <- optional (symbol pol ":=" *> initValue pol)
   -- CODESYS writes END_STRUCT END_TYPE without the ';' (NX-TYPE-51)
   if codesys pol then void (optional (symbol pol ";")) else symbol pol ";"

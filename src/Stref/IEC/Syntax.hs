@@ -79,6 +79,7 @@ data TypeSpec
   | TSEnum Pos [(Pos, Name, Maybe Expr)] (Maybe Name) -- ^ @(a, b, c)@; CODESYS: @(a, b := 10) DINT@ (NX-TYPE-57)
   | TSSubrange Pos Name (Expr, Expr) -- ^ @INT (lo..hi)@
   | TSPointer Pos TypeSpec -- ^ CODESYS: @POINTER TO T@ (NX-TYPE-74)
+  | TSExtends Pos Name TypeSpec -- ^ CODESYS: @TYPE S2 EXTENDS S1 : STRUCT ... END_STRUCT@ (NX-TYPE-55)
   deriving (Eq, Show)
 
 -- | An initial value: an expression, an array list (with @n(v)@
