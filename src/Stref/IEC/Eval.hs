@@ -514,6 +514,14 @@ eval ce = case ceNode ce of
   -- which the checker decides) is the time since the controller started:
   -- the clock the standard FBs read, in TIME's 32 bits
   CStandard f [] | f == timeFunction -> VTime TIME . wrapInt TIME <$> gets mClock
+  CStandard "MUX" (k : ins) -> do
+    pol <- asks cxPol
+    kv <- eval k
+    -- NX-OP-67: CODESYS evaluates only the input K selects
+    vs <- case (pExtensions pol, kv) of
+      (ExtensionsCodesys, VInt _ i) -> forM (zip [0 ..] ins) $ \(j, a) -> if j == i then eval a else pure (defaultValue (ceType a))
+      _ -> mapM eval ins
+    orFault (cePos ce) (standard pol "MUX" (map ceType (k : ins)) (kv : vs))
   CStandard f args -> do
     pol <- asks cxPol
     vs <- mapM eval args

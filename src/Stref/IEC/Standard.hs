@@ -222,6 +222,8 @@ typing p f ts = case f of
       e <- case baseElem (arg 1) of
         -- TC-OP-37 (open): decision: BOOL is a bit string of width 1
         Just e | isAnyBit e -> Right e
+        -- NX-OP-49: CODESYS also shifts the integers (SHR of a signed one is arithmetic)
+        Just e | codesys, isAnyInt e, f `elem` ["SHL", "SHR"] -> Right e
         _ -> Left (f <> " shifts a bit string (ANY_BIT), not " <> typeText (arg 1))
       int 2
       Right (TElem e)
@@ -237,8 +239,11 @@ typing p f ts = case f of
         [] -> Left f
     -- TC-CONV-5: a position or length of any integer type (TC-OP-35: also
     -- the N of the shifts)
+    codesys = pExtensions p == ExtensionsCodesys
     int i = case baseElem (arg i) of
       Just e | isAnyInt e -> Right ()
+      -- NX-OP-66, NX-OP-54..57: CODESYS takes a count or selector of a bit string type too
+      Just e | codesys, isBitString e -> Right ()
       _ -> Left (f <> ": argument " <> T.pack (show i) <> " is an integer (ANY_INT), not " <> typeText (arg i))
     str i = case arg i of
       TString w n -> Right (w, n)
@@ -420,17 +425,20 @@ shiftValue :: Text -> Value -> Value -> Either Fault Value
 shiftValue f v nv = do
   n <- intValue nv
   case v of
-    VInt e x -> Right (VInt e (wrapInt e (bits (intBits e) (x .&. mask (intBits e)) (max 0 n))))
-    VBool b -> Right (VBool (bits 1 (if b then 1 else 0) (max 0 n) /= 0))
+    VInt e x -> Right (VInt e (wrapInt e (bits (isSignedInt e) (intBits e) (x .&. mask (intBits e)) (max 0 n))))
+    VBool b -> Right (VBool (bits False 1 (if b then 1 else 0) (max 0 n) /= 0))
     _ -> Left (illTyped (f <> " of " <> renderValue v))
   where
     mask w = 2 ^ w - 1 :: Integer
-    bits :: Int -> Integer -> Integer -> Integer
-    bits w x n =
+    bits :: Bool -> Int -> Integer -> Integer -> Integer
+    bits signed w x n =
       let r = fromInteger (n `mod` toInteger w)
        in case f of
             "SHL" -> if n >= toInteger w then 0 else (x `shiftL` fromInteger n) .&. mask w
-            "SHR" -> if n >= toInteger w then 0 else x `shiftR` fromInteger n
+            "SHR"
+              | signed -> let sx = if x >= 2 ^ (w - 1) then x - 2 ^ w else x in (sx `shiftR` fromInteger (min n (toInteger w))) .&. mask w -- NX-OP-49: the sign bit fills
+              | n >= toInteger w -> 0
+              | otherwise -> x `shiftR` fromInteger n
             "ROL" -> ((x `shiftL` r) .|. (x `shiftR` (w - r))) .&. mask w
             _ -> ((x `shiftR` r) .|. (x `shiftL` (w - r))) .&. mask w
 
