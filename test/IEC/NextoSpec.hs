@@ -75,3 +75,36 @@ spec = describe "the nexto dialect" $ do
       rejectKind nexto "FUNCTION_BLOCK A\nVAR x : INT; END_VAR\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK B EXTENDS A\nVAR x : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR b : B; END_VAR\nb();\nEND_PROGRAM\n" `shouldBe` Just ("redeclared-inherited", 5)
     it "multiple inheritance is rejected (NX-POU-47)" $
       fmap fst (rejectKind nexto "FUNCTION_BLOCK A\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK C\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK B EXTENDS A, C\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nEND_PROGRAM\n") `shouldBe` Just "multiple-inheritance"
+  describe "the language policies, both alternatives (left out of the corpus sweeps)" $ do
+    let unit body = "PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM\n"
+    it "enumerations: integer values mix with numbers; symbolic ones do not (NX-TYPE-60, TC-TYPE-36)" $ do
+      let src = "TYPE COLOR : (red, yellow, green := 10); END_TYPE\nPROGRAM MAIN\nVAR c : COLOR; i : INT; END_VAR\nc := green; i := c + 1;\nEND_PROGRAM\n"
+      runUnit nexto src 1 "MAIN.i" `shouldBe` Right (VInt INT 11)
+      fmap fst (rejectKind nexto {pEnumerations = EnumSymbolic} src) `shouldBe` Just "type-mismatch"
+    it "bit-string-arithmetic: yes wraps BYTE + BYTE, no rejects it (NX-OP-23)" $ do
+      runMain nexto "VAR a : BYTE := 250; b : BYTE := 10; END_VAR a := a + b;" 1 "a" `shouldBe` Right (VInt BYTE 4)
+      fmap fst (rejectKind nexto {pBitStringArithmetic = BitArithmeticNo} (unit "VAR a : BYTE; END_VAR\na := a + a;")) `shouldBe` Just "invalid-binary-operation"
+    it "program-calls: allowed keeps the called program's state; forbidden rejects the call (NX-POU-3, TC-POU-44)" $ do
+      let src = "PROGRAM Counter\nVAR_OUTPUT n : INT; END_VAR\nn := n + 1;\nEND_PROGRAM\nPROGRAM MAIN\nVAR seen : INT; END_VAR\nCounter(); Counter(); seen := Counter.n;\nEND_PROGRAM\nCONFIGURATION Cfg\nRESOURCE Res ON Plc\nTASK Cyclic(INTERVAL := T#10ms);\nPROGRAM Main WITH Cyclic : MAIN;\nEND_RESOURCE\nEND_CONFIGURATION\n"
+      runUnit nexto src 2 "MAIN.seen" `shouldBe` Right (VInt INT 4)
+      fmap fst (rejectKind nexto {pProgramCalls = ProgramCallsForbidden} src) `shouldBe` Just "program-call"
+    it "fb-access: codesys writes an output from outside; iec rejects it (NX-POU-19, TC-POU-24)" $ do
+      let src = "FUNCTION_BLOCK F\nVAR_OUTPUT q : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR f : F; END_VAR\nf.q := 5;\nEND_PROGRAM\n"
+      runUnit nexto src 1 "MAIN.f.q" `shouldBe` Right (VInt INT 5)
+      rejectKind nexto {pFBAccess = AccessIec} src `shouldBe` Just ("write-not-allowed", 6)
+    it "reserved-names: codesys frees the standard FBs' parameter names, iec reserves them (NX-LEX-12, TC-LEX-4)" $ do
+      runMain nexto "VAR q : INT; END_VAR q := 3;" 1 "q" `shouldBe` Right (VInt INT 3)
+      fmap fst (rejectKind nexto {pReservedNames = ReservedIec} (unit "VAR q : INT; END_VAR\nq := 3;")) `shouldBe` Just "reserved-name"
+    it "subrange-initial: zero starts a range that holds 0 at 0, lower-bound at its lower bound (NX-TYPE-35, TC-TYPE-21)" $ do
+      runMain nexto "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT 0)
+      runMain nexto {pSubrangeInitial = SubrangeLowerBound} "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT (-40))
+  describe "pointers, resets, check functions" $ do
+    it "ADR, ^ and byte arithmetic over an array (NX-TYPE-76, NX-TYPE-77)" $ do
+      let body = "VAR a : ARRAY [0..4] OF INT := [10, 20, 30, 40, 50]; p : POINTER TO INT; x, y : INT; END_VAR p := ADR(a[0]); x := p[3]; p := p + 4; y := p^;"
+      runMain nexto body 1 "x" `shouldBe` Right (VInt INT 40)
+      runMain nexto body 1 "y" `shouldBe` Right (VInt INT 30)
+    it "dereferencing 0 is null-pointer" $
+      errorOf nexto "VAR p : POINTER TO INT; x : INT; END_VAR x := p^;" 1 `shouldBe` Just (1, "null-pointer")
+    it "CheckBounds' result is the index used (NX-ERR-7)" $ do
+      let src = "FUNCTION CheckBounds : DINT\nVAR_INPUT index, lower, upper : DINT; END_VAR\nIF index > upper THEN CheckBounds := upper; ELSE CheckBounds := index; END_IF\nEND_FUNCTION\nPROGRAM MAIN\nVAR a : ARRAY [0..7] OF BOOL; b : INT := 10; END_VAR\na[b] := TRUE;\nEND_PROGRAM\n"
+      runUnit nexto src 1 "MAIN.a[7]" `shouldBe` Right (VBool True)

@@ -636,8 +636,11 @@ resolveType = \case
     base <- resolveType (TSName p n)
     lo <- constInt a
     hi <- constInt b
+    pol <- asks envPol
     case base of
       TElem e | isAnyInt e -> pure (TSubrange e lo hi)
+      -- NX-TYPE-68: CODESYS also ranges BYTE, WORD, DWORD, LWORD
+      TElem e | isBitString e, pExtensions pol == ExtensionsCodesys -> pure (TSubrange e lo hi)
       _ -> failC "type-mismatch" p "a subrange is a range of an integer type (TC-TYPE-32)"
 
 -- | A constant integer (array bounds, string lengths, subranges).
@@ -1306,6 +1309,8 @@ pointerAssignable :: Type -> CExpr -> Maybe CExpr
 pointerAssignable t ce = case (t, ceType ce) of
   (TPointer _, TPointer _) -> Just ce {ceType = t}
   (TPointer _, TElem e) | e `elem` [DWORD, UDINT] -> Just ce {ceType = t}
+  -- the null pointer written as 0, or another integer constant
+  (TPointer _, TElem e) | isInt e, CConst _ <- ceNode ce -> Just (CExpr (cePos ce) t (CConvert (TElem DWORD) ce))
   (TElem DWORD, TPointer _) -> Just ce {ceType = t}
   (TElem e, TPointer _) | isInt e, intBits e >= 32 -> Just (CExpr (cePos ce) t (CConvert t ce {ceType = TElem DWORD}))
   _ -> Nothing
@@ -1675,7 +1680,8 @@ callStandard expected p f args = do
         -- an expression of untyped literals in an argument takes the type
         -- the call's context expects, as it would without the call
         tes <- mapM (infer (expected >>= numericLike)) a
-        let nonFlex = [ceType c | (c, Fixed) <- tes]
+        -- the selector of MUX and SEL does not type their inputs
+        let nonFlex = [ceType c | (i, (c, Fixed)) <- zip [0 :: Int ..] tes, not (i == 0 && k `elem` ["MUX", "SEL"])]
             candidates = [Just t | t <- take 1 nonFlex] ++ [expected >>= numericLike, Nothing]
         r <- firstOk pol False tes candidates >>= maybe (firstOk pol True tes candidates) (pure . Just)
         case r of

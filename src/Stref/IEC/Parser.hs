@@ -13,7 +13,7 @@ module Stref.IEC.Parser
   , timeLiteral
   ) where
 
-import Control.Monad (void, when)
+import Control.Monad (unless, void, when)
 import Data.Char (chr, digitToInt, isAlpha, isAscii, isAsciiLower, isAsciiUpper, isDigit, isHexDigit, isSpace)
 import qualified Data.List.NonEmpty as NE
 import Data.Maybe (fromMaybe, isJust)
@@ -318,6 +318,7 @@ stringLit pol q = lexeme pol $ do
               e <- anySingle
               if
                   | e == '$' -> go off ('$' : acc)
+                  | e == '"' && q == '\'' && codesys pol -> failAt eoff "invalid-escape" "$\" is no escape of a STRING (NX-LEX-54, NX-LEX-56)"
                   | e == '\'' || e == '"' -> go off (e : acc)
                   | e `elem` ("Ll" :: String) -> go off ('\n' : acc)
                   | e `elem` ("Nn" :: String) -> go off ('\n' : acc) -- TC-LEX-38: $N is LF
@@ -333,11 +334,30 @@ stringLit pol q = lexeme pol $ do
 -- | Duration literal body after @T#@ (TC-LEX-41, TC-LEX-44): units d h m s ms
 -- (also us, ns), any case, fractional values, underscores between units.
 durationBody :: Parser Integer
-durationBody = do
+durationBody = snd <$> durationParts
+
+-- | NX-LEX-35..37: in CODESYS's TIME literal the units come in the order
+-- d h m s ms, and every unit but the first stays below its limit
+-- (T#100S12ms is valid, t#5m68s and t#4ms13d are not).
+checkedDuration :: Parser Integer
+checkedDuration = do
+  off <- getOffset
+  (parts, total) <- durationParts
+  let units = map fst parts
+      limits = [(3600000000000, 24), (60000000000, 60), (1000000000, 60), (1000000, 1000), (1000, 1000), (1, 1000)]
+      decreasing = and (zipWith (>) units (drop 1 units))
+      withinLimits = and [maybe True (v <) (lookup u limits) | (u, v) <- drop 1 [(u, n `div` u) | (u, n) <- parts]]
+  unless decreasing (failAt off "invalid-time-literal" "the units of a TIME literal come in the order d, h, m, s, ms (NX-LEX-35)")
+  unless withinLimits (failAt off "invalid-time-literal" "only the first unit of a TIME literal may exceed its limit: h < 24, m < 60, s < 60, ms < 1000 (NX-LEX-36, NX-LEX-37)")
+  pure total
+
+-- | The parts of a duration, each as its unit and its nanoseconds, and the total.
+durationParts :: Parser ([(Integer, Integer)], Integer)
+durationParts = do
   neg <- isJust <$> optional (char '-')
   parts <- some (try part <* optional (char '_'))
-  let total = sum parts
-  pure (if neg then negate total else total)
+  let total = sum (map snd parts)
+  pure (parts, if neg then negate total else total)
   where
     part = do
       ds <- digitsIn 10
@@ -345,7 +365,7 @@ durationBody = do
       unit <- unitP
       let f = fromMaybe "" frac
           value = toRational (readIn 10 (ds <> f)) / (10 ^ T.length f)
-      pure (floor (value * toRational unit))
+      pure (unit, floor (value * toRational unit))
     unitP :: Parser Integer
     unitP =
       choice
@@ -392,6 +412,16 @@ todBody = do
       fracNs = (readIn 10 f * 1000000000) `div` (10 ^ T.length f)
   pure (((h * 60 + m) * 60 + s) * 1000000000 + fracNs)
 
+-- | NX-LEX-50: CODESYS's DT literal may end after the minutes
+-- (DT#1998-02-13-14:20).
+hoursMinutes :: Parser Integer
+hoursMinutes = do
+  h <- readIn 10 <$> digitsIn 10
+  _ <- char ':'
+  m <- readIn 10 <$> digitsIn 10
+  when (h > 23 || m > 59) (fail "this is not a valid time of day")
+  pure ((h * 60 + m) * 60 * 1000000000)
+
 -- | The text of a duration, date, time-of-day or date-and-time literal, as
 -- a conversion from STRING reads it (NX-CONV-33: STRING_TO_TIME('T#127ms')):
 -- the whole text, blanks around it ignored, with its prefix in any case and
@@ -433,12 +463,12 @@ prefixed pol = do
   w <- try (takeWhile1P Nothing isWordChar <* char '#')
   case T.toUpper w of
     u
-      | u `elem` ["T", "TIME"] -> lexeme pol (ELit p . LTime <$> durationBody) <?> "a duration such as 1h2m3s"
+      | u `elem` ["T", "TIME"] -> lexeme pol (ELit p . LTime <$> (if codesys pol then checkedDuration else durationBody)) <?> "a duration such as 1h2m3s"
       -- NX-LEX-41, NX-TYPE-33: an LTIME, nanoseconds in 64 bits
       | u `elem` ["LT", "LTIME"] -> lexeme pol (ELit p . LTyped "LTIME" . LTime <$> durationBody) <?> "a duration such as 1h2m3s"
       | u `elem` ["D", "DATE"] -> lexeme pol (ELit p . LDate <$> dateBody) <?> "a date such as 2003-06-21"
       | u `elem` ["TOD", "TIME_OF_DAY"] -> lexeme pol (ELit p . LTod <$> todBody) <?> "a time of day such as 06:32:15.08"
-      | u `elem` ["DT", "DATE_AND_TIME"] -> lexeme pol (do d <- dateBody; _ <- char '-'; t <- todBody; pure (ELit p (LDT (d + t)))) <?> "a date and time such as 2003-06-21-11:38:52.35"
+      | u `elem` ["DT", "DATE_AND_TIME"] -> lexeme pol (do d <- dateBody; _ <- char '-'; t <- if codesys pol then try todBody <|> hoursMinutes else todBody; pure (ELit p (LDT (d + t)))) <?> "a date and time such as 2003-06-21-11:38:52.35"
       | otherwise -> do
           inner <-
             choice

@@ -177,7 +177,7 @@ typing p f ts = case f of
   "LEFT" -> Just (exactly 2 >> int 2 >> firstString) -- TC-STR-4
   "RIGHT" -> Just (exactly 2 >> int 2 >> firstString) -- TC-STR-5
   "MID" -> Just (exactly 3 >> int 2 >> int 3 >> firstString) -- TC-STR-6
-  "CONCAT" -> Just (atLeast 2 >> summed [1 .. length ts]) -- TC-STR-7
+  "CONCAT" -> Just ((if codesys then exactly 2 else atLeast 2) >> summed [1 .. length ts]) -- TC-STR-7; NX-STR-6: two inputs
   "INSERT" -> Just (exactly 3 >> int 3 >> summed [1, 2]) -- TC-STR-8
   "DELETE" -> Just (exactly 3 >> int 2 >> int 3 >> firstString) -- TC-STR-9
   "REPLACE" -> Just (exactly 4 >> int 3 >> int 4 >> summed [1, 2]) -- TC-STR-10
