@@ -372,6 +372,10 @@ memberSignatures p = do
       either throwError pure (runExcept (checkDuplicates [(viPos v, viName v) | v <- all']))
       pure [(key (mtName m), (KMethod, all'))]
     MProperty pr -> do
+      -- NX-POU-39: a property's accessors have local variables only
+      forM_ (maybe [] fst (prGet pr) ++ maybe [] fst (prSet pr)) $ \b ->
+        unless (vbSection b `elem` [SecVar, SecTemp]) $
+          failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is not allowed in a property: it has local variables only (NX-POU-39)")
       ty <- resolveType (prType pr)
       let own sec = VarInfo (prName pr) (key (prName pr)) sec ty (defaultValue ty) False Nothing Nothing (prPos pr) Volatile
       getter <- forM (prGet pr) $ \(blocks, _) -> do
@@ -1390,6 +1394,13 @@ infer expected = \case
       Just ce -> pure (ce, Fixed)
       Nothing -> failC "not-a-function-block" p "this names no method of a function block"
   ECall p f args -> do
+    -- NX-POU-50: inside a method its name is its result; called, it would recurse
+    self <- asks envSelf
+    locals <- asks envLocals
+    own <- maybe (pure Nothing) (`memberOf` f) self
+    case (own, M.lookup (key f) locals) of
+      (Just (KMethod, _), Just v) | viSection v == SecOutput -> failC "recursive-call" p ("the method " <> f <> " calls itself; recursion is not allowed (NX-POU-50)")
+      _ -> pure ()
     r <- isUserFunction f >>= \isF -> if isF then pure Nothing else memberCall p (EVar p f) args
     maybe (callExpr expected p f args) (\ce -> pure (ce, Fixed)) r
   e@EIndex {} -> readRef e
