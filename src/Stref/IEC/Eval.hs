@@ -219,10 +219,15 @@ callFB p c = do
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
   local (\cx -> cx {cxSelf = inst, cxThis = inst, cxDepth = depth + 1}) (callBody d)
   copyBack inst inouts
-  forM_ (fcOutputs c) $ \(k, r, t) -> do
-    v <- getPath (extend inst (StepField k))
-    target <- refPath p r
-    storeTarget p t r target v
+  copyOutputs p inst (fcOutputs c)
+
+-- | The @out => v@ bindings of a call, copied from the called POU's
+-- instance or frame after its body (TC-POU-38, NX-POU-13, NX-POU-30).
+copyOutputs :: Pos -> RefPath -> [(Text, CRef, Type)] -> Eval ()
+copyOutputs p callee outs = forM_ outs $ \(k, r, t) -> do
+  v <- getPath (extend callee (StepField k))
+  target <- refPath p r
+  storeTarget p t r target v
 
 paramType :: PouDef -> Text -> Type
 paramType d k = maybe (TElem BOOL) viType (varByKey d k)
@@ -292,10 +297,7 @@ callFunctionWith p d inputs refs outs = do
   local (\cx -> cx {cxSelf = frame, cxDepth = depth + 1}) (callBody d)
   copyBack frame refs
   -- NX-POU-13: the outputs bound with => are copied after the body
-  forM_ outs $ \(k, x, t) -> do
-    v <- getPath (extend frame (StepField k))
-    target <- refPath p x
-    storeTarget p t x target v
+  copyOutputs p frame outs
   result <- getPath (extend frame (StepField (key (pdName d))))
   modify' (\m -> m {mFrames = M.delete (depth + 1) (mFrames m)})
   pure result
@@ -560,10 +562,7 @@ callMethod p d r ins inouts outs = do
       bindInOuts inst refs
       local (\cx -> cx {cxSelf = inst, cxThis = inst, cxDepth = depth + 1}) (callBody md)
       copyBack inst refs
-      forM_ outs $ \(k, x, t) -> do
-        v <- getPath (extend inst (StepField k))
-        target <- refPath p x
-        storeTarget p t x target v
+      copyOutputs p inst outs
       pure (VBool False)
     _ -> do
       let frame = RefPath (RootFrame (depth + 1)) []
@@ -572,10 +571,7 @@ callMethod p d r ins inouts outs = do
       bindInOuts frame refs
       local (\cx -> cx {cxSelf = frame, cxThis = inst, cxDepth = depth + 1}) (callBody md)
       copyBack frame refs
-      forM_ outs $ \(k, x, t) -> do
-        v <- getPath (extend frame (StepField k))
-        target <- refPath p x
-        storeTarget p t x target v
+      copyOutputs p frame outs
       v <- getPathOr (extend frame (StepField (resultKey md))) (VBool False)
       modify' (\mc -> mc {mFrames = M.delete (depth + 1) (mFrames mc)})
       pure v

@@ -443,15 +443,9 @@ timeLiteral t = either (const Nothing) Just (runParser (lit <* eof) "" (T.strip 
           | u `elem` ["DT", "DATE_AND_TIME"] -> do
               d <- dateBody
               _ <- char '-'
-              c <- try todBody <|> minutes
+              c <- try todBody <|> hoursMinutes
               pure (DT, d + c)
           | otherwise -> fail "no time literal"
-    minutes = do
-      h <- readIn 10 <$> digitsIn 10
-      _ <- char ':'
-      m <- readIn 10 <$> digitsIn 10
-      when (h > 23 || m > 59) (fail "this is not a valid time of day")
-      pure ((h * 60 + m) * 60 * 1000000000)
 
 -- | @T#@, @D#@, @TOD#@, @DT#@ in their short and long spellings (TC-LEX-41,
 -- TC-LEX-42, TC-LEX-46), and typed literals @INT#5@ (TC-LEX-24), and
