@@ -284,17 +284,19 @@ callFunction p f ins inouts outs = do
   d <- maybe (fault p (Fault "call-depth" ("unknown function " <> f))) pure (lookupPou prog f)
   inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
   refs <- forM inouts $ \(k, r) -> (k,r,) <$> refPath p r
-  callFunctionWith p d inputs refs outs
+  callFunctionWith p d Nothing inputs refs outs
 
-callFunctionWith :: Pos -> PouDef -> [(Text, Value)] -> [(Text, CRef, RefPath)] -> [(Text, CRef, Type)] -> Eval Value
-callFunctionWith p d inputs refs outs = do
+-- | A POU run in a fresh frame: a function, or a method with the instance
+-- it runs on (NX-POU-26, NX-POU-27); its result is the variable named like it.
+callFunctionWith :: Pos -> PouDef -> Maybe RefPath -> [(Text, Value)] -> [(Text, CRef, RefPath)] -> [(Text, CRef, Type)] -> Eval Value
+callFunctionWith p d this inputs refs outs = do
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
   let frame = RefPath (RootFrame (depth + 1)) []
   modify' (\m -> m {mFrames = M.insert (depth + 1) (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])) (mFrames m)})
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend frame (StepField k)) v
   bindInOuts frame refs
-  local (\cx -> cx {cxSelf = frame, cxDepth = depth + 1}) (callBody d)
+  local (\cx -> cx {cxSelf = frame, cxThis = fromMaybe (cxThis cx) this, cxDepth = depth + 1}) (callBody d)
   copyBack frame refs
   -- NX-POU-13: the outputs bound with => are copied after the body
   copyOutputs p frame outs
@@ -314,7 +316,7 @@ implicitCheck p name args = do
       pol <- asks cxPol
       let params = [v | v <- pdVars d, viSection v == SecInput]
       inputs <- forM (zip params args) $ \(v, a) -> (viKey v,) <$> orFault p (convertValue pol (viType v) a)
-      Just <$> callFunctionWith p d inputs [] []
+      Just <$> callFunctionWith p d Nothing inputs [] []
     _ -> pure Nothing
 
 -- | A value converted to a type, as an implicit conversion would.
@@ -555,7 +557,7 @@ callMethod p d r ins inouts outs = do
   refs <- forM inouts $ \(k, x) -> (k,x,) <$> refPath p x
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
-  result <- case pdKind md of
+  case pdKind md of
     KAction -> do
       td <- maybe (fault p (Fault "call-depth" ("unknown type " <> owner))) pure (lookupPou prog owner)
       forM_ inputs $ \(k, v) -> storePath p (paramType td k) (extend inst (StepField k)) v
@@ -564,20 +566,7 @@ callMethod p d r ins inouts outs = do
       copyBack inst refs
       copyOutputs p inst outs
       pure (VBool False)
-    _ -> do
-      let frame = RefPath (RootFrame (depth + 1)) []
-      modify' (\mc -> mc {mFrames = M.insert (depth + 1) (VInstance (pdName md) (M.fromList [(viKey v, viInit v) | v <- pdVars md])) (mFrames mc)})
-      forM_ inputs $ \(k, v) -> storePath p (paramType md k) (extend frame (StepField k)) v
-      bindInOuts frame refs
-      local (\cx -> cx {cxSelf = frame, cxThis = inst, cxDepth = depth + 1}) (callBody md)
-      copyBack frame refs
-      copyOutputs p frame outs
-      v <- getPathOr (extend frame (StepField (resultKey md))) (VBool False)
-      modify' (\mc -> mc {mFrames = M.delete (depth + 1) (mFrames mc)})
-      pure v
-  pure result
-  where
-    resultKey md = key (pdName md)
+    _ -> callFunctionWith p md (Just inst) inputs refs outs
 
 -- | NX-ERR-1, NX-ERR-2: the check function of a division by its divisor's type.
 checkDivName :: Elem -> Maybe Text
@@ -744,14 +733,18 @@ walk (s : rest) v = case (s, v) of
 
 putPath :: RefPath -> Value -> Eval ()
 putPath (RefPath r steps) v = modify' $ \m -> case rootValue r m of
-  Just root -> setRoot r (update steps root) m
+  Just root -> setRoot r (updateAt steps v root) m
   Nothing -> m
+
+-- | A value with the part at a path replaced (a missing field is added).
+updateAt :: [Step] -> Value -> Value -> Value
+updateAt steps v = go steps
   where
-    update [] _ = v
-    update (s : rest) old = case (s, old) of
-      (StepField f, VStruct fs) -> VStruct (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
-      (StepField f, VInstance n fs) -> VInstance n (M.insert f (update rest (M.findWithDefault (VBool False) f fs)) fs)
-      (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
+    go [] _ = v
+    go (s : rest) old = case (s, old) of
+      (StepField f, VStruct fs) -> VStruct (M.insert f (go rest (M.findWithDefault (VBool False) f fs)) fs)
+      (StepField f, VInstance n fs) -> VInstance n (M.insert f (go rest (M.findWithDefault (VBool False) f fs)) fs)
+      (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (go rest) (linearIndex bs is) xs)
       -- NX-OP-93: a bit set or cleared, the rest of the integer kept
       (StepBit i, VInt e n) | VBool b <- v ->
         let u = n `mod` (2 ^ intBits e)
@@ -927,25 +920,11 @@ writeVariablePath prog m steps0 v = case throughList prog steps0 of
       case rest of
         [StepField k] | Just var <- varByKey d k, Just l <- viAt var -> Just (writeLocatedVar l (viType var) v m)
         _ -> put path
+    -- the path exists (walk), so updateAt adds no field
     put (RefPath r s) = do
       root <- rootValue r m
       _ <- walk s root
-      Just (setRoot r (update s root) m)
-    update [] _ = v
-    update (st : rest) old = case (st, old) of
-      (StepField f, VStruct fs) -> VStruct (M.adjust (update rest) f fs)
-      (StepField f, VInstance n fs) -> VInstance n (M.adjust (update rest) f fs)
-      (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (update rest) (linearIndex bs is) xs)
-      -- NX-OP-93: a bit set or cleared, the rest of the integer kept
-      (StepBit i, VInt e n) | VBool b <- v ->
-        let u = n `mod` (2 ^ intBits e)
-         in VInt e (wrapInt e (if b then setBit u i else clearBit u i))
-      -- NX-TYPE-77: writing a character inside the string; beyond its end
-      -- nothing changes
-      (StepChar _ i, VString str) | i >= 0 && i < toInteger (T.length str), VInt _ c <- v ->
-        let (before, after) = T.splitAt (fromInteger i) str
-         in VString (before <> T.singleton (chr (fromInteger c)) <> T.drop 1 after)
-      _ -> old
+      Just (setRoot r (updateAt s v root) m)
 
 readLocatedVar :: Location -> Type -> Machine -> Value
 readLocatedVar l t m = readLocated l t (mMemory m)
