@@ -2,7 +2,10 @@
 -- IEC core. Expected values come from the rules named, worked out by hand.
 module IEC.NextoSpec (spec) where
 
+import qualified Data.Text as T
 import qualified Data.Text.IO as TIO
+import Stref.IEC.Engine (Call (..))
+import Stref.IEC.Eval (ResetEvent (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -99,6 +102,21 @@ spec = describe "the nexto dialect" $ do
       runMain nexto "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT 0)
       runMain nexto {pSubrangeInitial = SubrangeLowerBound} "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT (-40))
   describe "pointers, resets, check functions" $ do
+    it "FB_Init is told whether the retentive variables are initialised: at the start and a cold reset, not at a warm one (NX-POU-35)" $ do
+      let src = "VAR_GLOBAL trace : DINT; END_VAR\nFUNCTION_BLOCK Dev\nMETHOD FB_Init : BOOL\nVAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; END_VAR\ntrace := trace * 10 + BOOL_TO_DINT(bInitRetains) + 1;\nEND_METHOD\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR d : Dev; END_VAR\nEND_PROGRAM\n"
+      runCalls nexto src [Scan [], Reset WarmReset, Scan [], Reset ColdReset, Scan []] "trace" `shouldBe` Right (VInt DINT 2)
+      runCalls nexto ("VAR_GLOBAL RETAIN keep : DINT; END_VAR\n" <> T.replace "trace := trace" "keep := keep * 10 + BOOL_TO_DINT(bInitRetains) + 1; trace := trace" src) [Scan [], Reset WarmReset, Scan [], Reset WarmReset, Scan []] "keep" `shouldBe` Right (VInt DINT 211)
+    it "an instance's FB_Init runs after those of the instances it contains, with the inputs given at its declaration (NX-POU-35)" $ do
+      let src = "VAR_GLOBAL trace : DINT; END_VAR\nFUNCTION_BLOCK Inner\nMETHOD FB_Init : BOOL\nVAR_INPUT bInitRetains, bInCopyCode : BOOL; n : DINT; END_VAR\ntrace := trace * 10 + n;\nEND_METHOD\nEND_FUNCTION_BLOCK\nFUNCTION_BLOCK Outer\nVAR a : Inner(n := 1); b : Inner(n := 2); END_VAR\nMETHOD FB_Init : BOOL\nVAR_INPUT bInitRetains, bInCopyCode : BOOL; END_VAR\ntrace := trace * 10 + 3;\nEND_METHOD\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR k : DINT := 4; o : Outer; i : Inner(n := k + 1); END_VAR\nEND_PROGRAM\n"
+      runCalls nexto src [Scan []] "trace" `shouldBe` Right (VInt DINT 1235)
+    it "an input at a declaration that the FB_Init does not declare is rejected (NX-POU-35)" $ do
+      let src = "FUNCTION_BLOCK Dev\nVAR x : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR d : Dev(n := 1); END_VAR\nEND_PROGRAM\n"
+      rejectKind nexto src `shouldBe` Just ("unknown-parameter", 5)
+    it "a computed initial value is computed again at a reset that initialises its variable (NX-VAR-24, NX-VAR-21)" $ do
+      let src = "VAR_GLOBAL base : INT := 5; END_VAR\nPROGRAM MAIN\nVAR x : INT := base * 2; END_VAR\nVAR RETAIN kept : INT := base * 3; END_VAR\nx := x + 1; kept := kept + 1; base := 7;\nEND_PROGRAM\n"
+      runCalls nexto src [Scan [], Reset WarmReset] "MAIN.x" `shouldBe` Right (VInt INT 10)
+      runCalls nexto src [Scan [], Reset WarmReset] "MAIN.kept" `shouldBe` Right (VInt INT 16)
+      runCalls nexto src [Scan [], Reset ColdReset] "MAIN.kept" `shouldBe` Right (VInt INT 15)
     it "ADR, ^ and byte arithmetic over an array (NX-TYPE-76, NX-TYPE-77)" $ do
       let body = "VAR a : ARRAY [0..4] OF INT := [10, 20, 30, 40, 50]; p : POINTER TO INT; x, y : INT; END_VAR p := ADR(a[0]); x := p[3]; p := p + 4; y := p^;"
       runMain nexto body 1 "x" `shouldBe` Right (VInt INT 40)

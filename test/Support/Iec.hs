@@ -3,6 +3,7 @@
 module Support.Iec
   ( runMain
   , runUnit
+  , runCalls
   , rejectKind
   , errorOf
   ) where
@@ -25,6 +26,15 @@ runMain pol body n var = runUnit pol ("PROGRAM MAIN\n" <> body <> "\nEND_PROGRAM
 -- and read a variable path.
 runUnit :: Policies -> Text -> Int -> Text -> Either Text Value
 runUnit pol src n path = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] (replicate n (Scan [])) of
+  Left e -> Left ("rejected: " <> veKind e <> ": " <> veMessage e)
+  Right (Left e) -> Left e
+  Right (Right r) -> case parseVarPath path of
+    Right steps -> maybe (Left "no such variable") (Right . fst) (readVariablePath (rrProgram r) (rrMachine r) steps)
+    Left e -> Left e
+
+-- | Run a whole unit over scan cycles and resets, and read a variable path.
+runCalls :: Policies -> Text -> [Call] -> Text -> Either Text Value
+runCalls pol src calls path = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] calls of
   Left e -> Left ("rejected: " <> veKind e <> ": " <> veMessage e)
   Right (Left e) -> Left e
   Right (Right r) -> case parseVarPath path of

@@ -204,6 +204,9 @@ checkUnit pol choice (Unit decls) = runExcept $ do
     forM_ inits $ \(k, _, ce) -> forM_ (globalsRead ce) $ \g ->
       unless (earlierOk g) $ throwError (VerificationError "global-init-order" (cePos ce) ("the initial value of " <> k <> " uses " <> g <> " of another global list that is not initialised first; give that list a lower global_init_slot (NX-VAR-27, NX-VAR-28)"))
     pure [(maybe k id (lookup k [(key (viName v), viKey v) | (_, _, vs) <- gvls, v <- vs]), t, ce) | (k, t, ce) <- inits]
+  globalInitArgs <- fmap M.unions . forM perBlock $ \(b, _) -> do
+    args <- runReaderT (checkInitArgs (vbDecls b)) env1
+    pure (M.mapKeys (\k -> maybe k id (lookup k [(key (viName v), viKey v) | (_, _, vs) <- gvls, v <- vs])) args)
   -- NX-POU-1..4: every PROGRAM has one instance, the configuration's or
   -- its own name's, which the tasks run and other POUs may call
   let programRoots = instances ++ [(pouName p, key (pouName p)) | p <- pous, pouKind p == KProgram, key (pouName p) `notElem` map snd instances]
@@ -230,6 +233,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prTaskInterval = interval
       , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
       , prGlobalInits = globalInits
+      , prGlobalInitArgs = globalInitArgs
       , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where
@@ -742,6 +746,7 @@ checkPou p = do
   body <- checkStmts (pouBody p)
   members <- checkMembers p
   inits <- checkInits [(b, d) | b <- pouVars p, d <- vbDecls b]
+  initArgs <- checkInitArgs [d | b <- pouVars p, d <- vbDecls b]
   let vars = M.elems locals
       ordered = sortOn viPos vars
   pure
@@ -755,6 +760,7 @@ checkPou p = do
       , pdEndPos = pouEnd p
       , pdBase = key . snd <$> pouExtends p
       , pdInits = inits
+      , pdInitArgs = initArgs
       , pdChecked = key (pouName p) `notElem` checkFunctionNames && isNothing (attributeValue "no_check" (pouAttributes p)) -- NX-PRAGMA-8
       , pdMethods = members
       }
@@ -776,6 +782,37 @@ checkInits decls = do
             ce <- checkExprAt (Just ty) e >>= assignable ty
             pure [(key n, ty, ce) | (_, n) <- vdNames d]
       _ -> pure []
+
+-- | NX-POU-35: the inputs given to an FB instance at its declaration,
+-- @com1 : Dev(nCom := 1)@, which its FB_Init method receives: by instance
+-- key, each input checked against the FB_Init of the FB or of the nearest
+-- FB it extends.
+checkInitArgs :: [VarDecl] -> C (M.Map Text [(Text, CExpr)])
+checkInitArgs decls = fmap (M.fromList . concat) . forM [d | d <- decls, not (null (vdArgs d))] $ \d -> do
+  ty <- resolveType (vdType d)
+  inputs <- case ty of
+    TFB fb -> fromMaybe [] <$> fbInitInputs fb
+    _ -> failC "type-mismatch" (vdPos d) "inputs in parentheses after the type are given only to a function block instance's FB_Init (NX-POU-35)"
+  args <- forM (vdArgs d) $ \case
+    ArgInput p n e -> case find (\v -> viKey v == key n && viSection v == SecInput) inputs of
+      Just v -> (viKey v,) <$> (checkExprAt (Just (viType v)) e >>= assignable (viType v))
+      Nothing -> failC "unknown-parameter" p ("the FB_Init of " <> typeText ty <> " has no input " <> n <> " (NX-POU-35)")
+    ArgPositional e -> failC "unknown-parameter" (exprPos e) "an FB_Init input at a declaration is given by name, e.g. (nCom := 1) (NX-POU-35)"
+    ArgOutput p _ _ -> failC "unknown-parameter" p "an FB_Init has no outputs to bind at a declaration (NX-POU-35)"
+  pure [(key n, args) | (_, n) <- vdNames d]
+
+-- | The variables of the FB_Init an FB declares or inherits, if any.
+fbInitInputs :: Text -> C (Maybe [VarInfo])
+fbInitInputs = go (16 :: Int) . key
+  where
+    go 0 _ = pure Nothing
+    go n k = do
+      own <- asks (M.lookup k . envMembersOf)
+      case own >>= M.lookup "FB_INIT" of
+        Just (_, vs) -> pure (Just vs)
+        Nothing -> do
+          base <- asks (\e -> M.lookup k (envPous e) >>= pouExtends)
+          maybe (pure Nothing) (go (n - 1) . key . snd) base
 
 -- | The bodies of a POU's methods, accessors and actions. A method runs in
 -- a frame of its own and reaches its instance's variables (but not its
@@ -803,6 +840,7 @@ checkMembers p = do
                   , pdEndPos = end'
                   , pdBase = Nothing
                   , pdInits = []
+                  , pdInitArgs = M.empty
                   , pdChecked = True
                   , pdMethods = M.empty
                   }
@@ -817,7 +855,7 @@ checkMembers p = do
       pure (g ++ st)
     MAction ap n stmts -> do
       body <- local (\e -> e {envLoop = False, envLabels = Set.empty}) (checkStmts stmts)
-      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing [] True M.empty)]
+      pure [(key n, PouDef KAction n [] M.empty Nothing (Statements body) ap Nothing [] M.empty True M.empty)]
   pure (M.fromList (concat defs))
 
 checkStmts :: [Stmt] -> C [CStmt]

@@ -43,6 +43,7 @@ data Program = Program
   , prTaskInterval :: Maybe Integer -- ^ the interval of the configuration's task, milliseconds, if it states one
   , prGvls :: Map Text (Map Text Text) -- ^ CODESYS: each named global list's variables, by key, and where each is stored (NX-VAR-35)
   , prGlobalInits :: [(Text, Type, CExpr)] -- ^ CODESYS: the globals' initial values that are not constants, in the order the lists initialise (NX-VAR-26, NX-VAR-27)
+  , prGlobalInitArgs :: Map Text [(Text, CExpr)] -- ^ CODESYS: the FB_Init inputs of global instances (NX-POU-35)
   , prChecks :: [Text] -- ^ the implicit check functions the program declares, by key (NX-ERR-1)
   }
 
@@ -88,6 +89,7 @@ data PouDef = PouDef
   , pdEndPos :: Pos
   , pdBase :: Maybe Text -- ^ the FB it extends, by key (NX-POU-44)
   , pdInits :: [(Text, Type, CExpr)] -- ^ CODESYS: initial values that are not constants, in declaration order (NX-VAR-24)
+  , pdInitArgs :: Map Text [(Text, CExpr)] -- ^ CODESYS: the FB_Init inputs given at an instance's declaration, by instance key (NX-POU-35)
   , pdChecked :: Bool -- ^ do the implicit check functions apply in its body? (not in themselves, nor under no_check: NX-ERR-3, NX-ERR-4)
   , pdMethods :: Map Text PouDef -- ^ its own methods, property accessors and actions, by key
   }

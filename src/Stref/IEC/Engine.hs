@@ -60,10 +60,12 @@ runProgram pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
   pure $ do
-    let (started, initError) = initialize pol prog (initialMachine prog)
+    let (started, initError) = initialize pol prog Nothing (initialMachine prog)
     m0 <- foldM (setPath pol prog) started initial
     let go m k err [] = Right (RunResult prog m err (k - 1))
-        go m k err (Reset ev : rest) = go (resetMachine ev prog m) k err rest
+        go m k err (Reset ev : rest) =
+          let (m1, stop) = restart pol prog ev m
+           in go m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) rest
         go m k err (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
           let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) m1

@@ -15,6 +15,7 @@ module Stref.IEC.Eval
   , ResetEvent (..)
   , resetEvents
   , resetMachine
+  , restart
   ) where
 
 import Control.Monad (forM, forM_, unless, when)
@@ -25,7 +26,7 @@ import Data.Char (chr, ord)
 import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.))
 import Data.List (find)
 import qualified Data.Map.Strict as M
-import Data.Maybe (fromMaybe)
+import Data.Maybe (fromMaybe, isJust)
 import qualified Data.Sequence as Seq
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -113,13 +114,8 @@ resetMachine ev prog m =
     , mFrames = M.empty
     }
   where
-    keeps = \case
-      Volatile -> False
-      RetainOverWarm -> ev == WarmReset
-      Persistent -> ev `elem` [WarmReset, ColdReset, Download]
-      NoInit -> ev `elem` [WarmReset, ColdReset]
     resetVar vi v
-      | keeps (viRetention vi) = v
+      | keptOver ev (viRetention vi) = v
       | otherwise = case v of
           VInstance {} -> resetInstance v
           _ -> viInit vi
@@ -128,23 +124,93 @@ resetMachine ev prog m =
         VInstance t (M.mapWithKey (\k x -> maybe x (`resetVar` x) (varByKey d k)) fs)
       v -> v
 
+-- | Table 4-4: does a variable of this retention keep its value over the event?
+keptOver :: ResetEvent -> Retention -> Bool
+keptOver ev = \case
+  Volatile -> False
+  RetainOverWarm -> ev == WarmReset
+  Persistent -> ev `elem` [WarmReset, ColdReset, Download]
+  NoInit -> ev `elem` [WarmReset, ColdReset]
+
+-- | A reset of the controller between cycles: every FB instance's FB_Exit
+-- (NX-POU-35), the values of Table 4-4 (resetMachine), then the
+-- initialisation of a start again, which calls every FB_Init.
+restart :: Policies -> Program -> ResetEvent -> Machine -> (Machine, Maybe Stop)
+restart pol prog ev m0 =
+  let (m1, exitStop) = runInit pol prog m0 (everyInstance prog fbExit)
+      (m2, initStop) = initialize pol prog (Just ev) (resetMachine ev prog m1)
+   in (m2, maybe initStop Just exitStop)
+
 -- | NX-VAR-24..28: the initial values computed when the controller
 -- starts, after the constant ones: the globals' (list by list), then every
 -- program instance's and, inside it, every FB instance's, each in
--- declaration order.
-initialize :: Policies -> Program -> Machine -> (Machine, Maybe Stop)
-initialize pol prog m0 =
-  let ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
-      run = do
-        forM_ (prGlobalInits prog) $ \(k, t, ce) -> eval ce >>= storePath (cePos ce) t (RefPath (RootGlobal k) [])
-        forM_ [(v, fb) | v <- prGlobals prog, TFB fb <- [viType v]] $ \(v, fb) -> instanceInits (RefPath (RootGlobal (viKey v)) []) fb
-        forM_ (prRoots prog) $ \(inst, t) -> instanceInits (RefPath (RootProgram (key inst)) []) t
-      instanceInits path t = case lookupPou prog t of
-        Just d -> local (\c -> c {cxSelf = path, cxThis = path}) $ do
-          forM_ (pdInits d) $ \(k, ty, ce) -> eval ce >>= storePath (cePos ce) ty (extend path (StepField k))
-          forM_ [(v, fb) | v <- pdVars d, TFB fb <- [viType v]] $ \(v, fb) -> instanceInits (extend path (StepField (viKey v))) fb
+-- declaration order. After a reset, the variables the reset kept keep
+-- their values. NX-POU-35: once an instance is initialised, with the
+-- instances it contains, its FB_Init runs, the base FB's first (NX-POU-44).
+initialize :: Policies -> Program -> Maybe ResetEvent -> Machine -> (Machine, Maybe Stop)
+initialize pol prog ev m0 = runInit pol prog m0 $ do
+  forM_ (prGlobalInits prog) $ \(k, t, ce) ->
+    unless (kept (fmap viRetention (find ((== k) . viKey) (prGlobals prog)))) $
+      eval ce >>= storePath (cePos ce) t (RefPath (RootGlobal k) [])
+  forM_ [(v, fb) | v <- prGlobals prog, TFB fb <- [viType v]] $ \(v, fb) -> do
+    args <- evalArgs (M.findWithDefault [] (viKey v) (prGlobalInitArgs prog))
+    instanceInits (RefPath (RootGlobal (viKey v)) []) fb (kept (Just (viRetention v))) args
+  forM_ (prRoots prog) $ \(inst, t) -> instanceInits (RefPath (RootProgram (key inst)) []) t False []
+  where
+    kept = maybe False (\r -> maybe False (`keptOver` r) ev)
+    evalArgs = mapM (\(k, e) -> (k,) <$> eval e)
+    instanceInits path t wholeKept args = case lookupPou prog t of
+      Just d -> local (\c -> c {cxSelf = path, cxThis = path}) $ do
+        unless wholeKept $
+          forM_ (pdInits d) $ \(k, ty, ce) ->
+            unless (kept (viRetention <$> varByKey d k)) $ eval ce >>= storePath (cePos ce) ty (extend path (StepField k))
+        forM_ [(v, fb) | v <- pdVars d, TFB fb <- [viType v]] $ \(v, fb) -> do
+          inner <- evalArgs (M.findWithDefault [] (viKey v) (pdInitArgs d))
+          instanceInits (extend path (StepField (viKey v))) fb (wholeKept || kept (Just (viRetention v))) inner
+        when (pdKind d == KFunctionBlock) (fbInit path d args)
+      Nothing -> pure ()
+    -- bInitRetains: are the retentive variables initialised by this start?
+    fbInit path d args =
+      forM_ (reverse (lineage prog d)) $ \level -> case M.lookup "FB_INIT" (pdMethods level) of
+        Just md ->
+          let given = [("BINITRETAINS", VBool (ev /= Just WarmReset)), ("BINCOPYCODE", VBool False)] ++ args
+           in () <$ callFunctionWith (pdEndPos md) md (Just path) [(k, v) | (k, v) <- given, isJust (varByKey md k)] [] []
         Nothing -> pure ()
-      (r, m) = runState (runExceptT (runReaderT run ctx)) m0 {mSteps = 0}
+
+-- | NX-POU-35, NX-POU-44: an instance's FB_Exit before a reset, the derived
+-- FB's first.
+fbExit :: RefPath -> PouDef -> Eval ()
+fbExit path d = do
+  prog <- asks cxProgram
+  forM_ (lineage prog d) $ \level -> case M.lookup "FB_EXIT" (pdMethods level) of
+    Just md -> () <$ callFunctionWith (pdEndPos md) md (Just path) [(k, v) | (k, v) <- [("BINCOPYCODE", VBool False)], isJust (varByKey md k)] [] []
+    Nothing -> pure ()
+
+-- | An FB type and the FBs it extends, the type itself first.
+lineage :: Program -> PouDef -> [PouDef]
+lineage prog = go (16 :: Int)
+  where
+    go 0 _ = []
+    go n d = d : maybe [] (go (n - 1)) (pdBase d >>= lookupPou prog)
+
+-- | Every FB instance of the globals and the program instances, outer
+-- instances before those they contain, each in declaration order.
+everyInstance :: Program -> (RefPath -> PouDef -> Eval ()) -> Eval ()
+everyInstance prog act = do
+  forM_ [(v, fb) | v <- prGlobals prog, TFB fb <- [viType v]] $ \(v, fb) -> visit (RefPath (RootGlobal (viKey v)) []) fb
+  forM_ (prRoots prog) $ \(inst, t) -> visit (RefPath (RootProgram (key inst)) []) t
+  where
+    visit path t = case lookupPou prog t of
+      Just d -> local (\c -> c {cxSelf = path, cxThis = path}) $ do
+        when (pdKind d == KFunctionBlock) (act path d)
+        forM_ [(v, fb) | v <- pdVars d, TFB fb <- [viType v]] $ \(v, fb) -> visit (extend path (StepField (viKey v))) fb
+      Nothing -> pure ()
+
+-- | Run initialisation code outside a cycle.
+runInit :: Policies -> Program -> Machine -> Eval () -> (Machine, Maybe Stop)
+runInit pol prog m0 act =
+  let ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
+      (r, m) = runState (runExceptT (runReaderT act ctx)) m0 {mSteps = 0, mFrames = M.empty}
    in case r of
         Left (SigFault p f) -> (m, Just (StopFault p f))
         _ -> (m, Nothing)

@@ -61,7 +61,7 @@ nativeFB n vars hidden meaning =
   let infos = [VarInfo v v s t (defaultValue t) False Nothing Nothing noPos Volatile | (v, s, t) <- vars]
       hiddenInfos = [VarInfo h h SecVar t v False Nothing Nothing noPos Volatile | (h, t, v) <- hidden]
       allVars = infos ++ hiddenInfos
-   in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noPos Nothing [] True M.empty)
+   in (n, PouDef KFunctionBlock n allVars (M.fromList [(viKey v, v) | v <- allVars]) Nothing (Native meaning) noPos Nothing [] M.empty True M.empty)
 
 iecFBs :: Policies -> [(Text, PouDef)]
 iecFBs pol =
