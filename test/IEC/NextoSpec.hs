@@ -1,3 +1,5 @@
+{-# LANGUAGE ScopedTypeVariables #-}
+
 -- | The nexto dialect: CODESYS V3 as the Nexto manual documents it, on the
 -- IEC core. Expected values come from the rules named, worked out by hand.
 module IEC.NextoSpec (spec) where
@@ -11,6 +13,8 @@ import Stref.IEC.Values
 import Stref.Policy
 import Support.Iec
 import Test.Hspec
+import Test.QuickCheck (property)
+import Stref.IEC.Memory (decode, encode)
 
 spec :: Spec
 spec = describe "the nexto dialect" $ do
@@ -101,6 +105,29 @@ spec = describe "the nexto dialect" $ do
     it "subrange-initial: zero starts a range that holds 0 at 0, lower-bound at its lower bound (NX-TYPE-35, TC-TYPE-21)" $ do
       runMain nexto "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT 0)
       runMain nexto {pSubrangeInitial = SubrangeLowerBound} "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT (-40))
+  describe "UNION (NX-TYPE-72, NX-TYPE-73)" $ do
+    let unionSrc decls body = "TYPE U :\nUNION\n" <> decls <> "\nEND_UNION\nEND_TYPE\nPROGRAM MAIN\nVAR u : U; a : ARRAY [1..2] OF U; x : DWORD; b : BYTE; rv : REAL; txt2 : STRING; p : POINTER TO BYTE; END_VAR\n" <> body <> "\nEND_PROGRAM\n"
+    it "a REAL member reads as its IEEE 754 pattern in a DWORD member" $ do
+      runUnit nexto (unionSrc "f : REAL; d : DWORD;" "u.f := 1.0; x := u.d;") 1 "MAIN.x" `shouldBe` Right (VInt DWORD 0x3F800000)
+      runUnit nexto (unionSrc "f : REAL; d : DWORD;" "u.d := 16#40490FDB; rv := u.f;") 1 "MAIN.rv" `shouldBe` Right (VReal 3.1415927)
+    it "a structure member's fields lie at their offsets, with padding" $
+      runUnit nexto (unionSrc "st : STRUCT c : BYTE; w : WORD; END_STRUCT; raw : ARRAY [0..3] OF BYTE;" "u.st.w := 16#1234; b := u.raw[2];") 1 "MAIN.b" `shouldBe` Right (VInt BYTE 0x34)
+    it "writing a short member keeps the bytes beyond it" $
+      runUnit nexto (unionSrc "d : DWORD; lo : BYTE;" "u.d := 16#11223344; u.lo := 16#FF; x := u.d;") 1 "MAIN.x" `shouldBe` Right (VInt DWORD 0x112233FF)
+    it "a STRING member shares its characters' bytes" $
+      runUnit nexto (unionSrc "txt : STRING(3); code : ARRAY [0..3] OF BYTE;" "u.code[0] := 72; u.code[1] := 105; txt2 := u.txt;") 1 "MAIN.txt2" `shouldBe` Right (VString "Hi")
+    it "unions in an array are separate, and a pointer reaches a member's byte" $ do
+      runUnit nexto (unionSrc "d : DWORD; bs : ARRAY [0..3] OF BYTE;" "a[1].d := 16#AABBCCDD; a[2].d := 1; p := ADR(a[1].d) + 1; b := p^;") 1 "MAIN.b" `shouldBe` Right (VInt BYTE 0xCC)
+      runUnit nexto (unionSrc "d : DWORD; bs : ARRAY [0..3] OF BYTE;" "a[1].d := 16#AABBCCDD; a[2].d := 1; x := a[2].d;") 1 "MAIN.x" `shouldBe` Right (VInt DWORD 1)
+    it "the bytes of a value read back as the value (integers of every width, REAL, LREAL, TIME)" $
+      property $ \(n :: Integer) (f :: Float) (d :: Double) ->
+        and [decode (TElem e) (encode (TElem e) (VInt e (wrapInt e n))) == VInt e (wrapInt e n) | e <- allElems, isInt e]
+          && decode (TElem REAL) (encode (TElem REAL) (VReal f)) == VReal f
+          && decode (TElem LREAL) (encode (TElem LREAL) (VLReal d)) == VLReal d
+          && decode (TElem TIME) (encode (TElem TIME) (VTime TIME (abs n `mod` 2 ^ (31 :: Int)))) == VTime TIME (abs n `mod` 2 ^ (31 :: Int))
+    it "a member that is an FB instance, or has an initial value, is rejected" $ do
+      fmap fst (rejectKind nexto (unionSrc "t : TON; d : DWORD;" "")) `shouldBe` Just "type-mismatch"
+      fmap fst (rejectKind nexto (unionSrc "d : DWORD := 5;" "")) `shouldBe` Just "section-not-allowed"
   describe "pointers, resets, check functions" $ do
     it "FB_Init is told whether the retentive variables are initialised: at the start and a cold reset, not at a warm one (NX-POU-35)" $ do
       let src = "VAR_GLOBAL trace : DINT; END_VAR\nFUNCTION_BLOCK Dev\nMETHOD FB_Init : BOOL\nVAR_INPUT bInitRetains : BOOL; bInCopyCode : BOOL; END_VAR\ntrace := trace * 10 + BOOL_TO_DINT(bInitRetains) + 1;\nEND_METHOD\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR d : Dev; END_VAR\nEND_PROGRAM\n"

@@ -577,6 +577,7 @@ resolveType = \case
             TEnum "" vs -> TEnum (tdName td) vs
             TNumEnum "" e vs -> TNumEnum (tdName td) e vs
             TStruct "" fs -> TStruct (tdName td) fs
+            TUnion "" fs -> TUnion (tdName td) fs
             _ -> t)
         Nothing
           | Just pd <- M.lookup (key n) pous, pouKind pd == KFunctionBlock -> pure (TFB (pouName pd))
@@ -605,6 +606,18 @@ resolveType = \case
       t <- resolveType (vdType d)
       pure [(n, t) | (_, n) <- vdNames d]
     pure (TStruct "" (concat fs))
+  -- NX-TYPE-72: a union's members share their storage, so each is plain
+  -- data with no initial value of its own
+  TSUnion p ds -> do
+    fs <- forM ds $ \d -> do
+      when (isJust (vdAt d) || isJust (vdInit d)) $
+        failC "section-not-allowed" (vdPos d) "a union's member has no address and no initial value of its own: its members share their bytes (NX-TYPE-72)"
+      t <- resolveType (vdType d)
+      unless (plainData t) $
+        failC "type-mismatch" (vdPos d) ("a union's member is data: " <> typeText t <> " cannot share its storage (NX-TYPE-72)")
+      pure [(n, t) | (_, n) <- vdNames d]
+    when (null (concat fs)) (failC "type-mismatch" p "a union declares at least one member")
+    pure (TUnion "" (concat fs))
   TSEnum p items base -> do
     pol <- asks envPol
     case pEnumerations pol of
@@ -1100,6 +1113,9 @@ fieldOf p base f = do
     TStruct _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
       Just t -> pure (CField ref (key f), t, access)
       Nothing -> failC "undeclared-variable" p ("the structure " <> typeText ty <> " has no field " <> f)
+    TUnion _ fs -> case lookup (key f) [(key n, t) | (n, t) <- fs] of
+      Just t -> pure (CField ref (key f), t, access)
+      Nothing -> failC "undeclared-variable" p ("the union " <> typeText ty <> " has no member " <> f)
     _ | Just fb <- instanceType ty -> do
       d <- fbVars fb
       case find ((== key f) . viKey) d of
@@ -1507,6 +1523,7 @@ enumValue p n expected = do
       t@TNumEnum {} -> [t]
       TArray _ t -> enumsIn t
       TStruct _ fs -> concatMap (enumsIn . snd) fs
+      TUnion _ fs -> concatMap (enumsIn . snd) fs
       _ -> []
     enumsInM = maybe [] enumsIn
 
@@ -1698,6 +1715,7 @@ sizeOf = \case
   TString w n -> (if w then 2 else 1) * (toInteger n + 1)
   TArray bs t -> product [hi - lo + 1 | (lo, hi) <- bs] * sizeOf t
   TStruct _ fs -> sum (map (sizeOf . snd) fs)
+  TUnion _ fs -> maximum (0 : map (sizeOf . snd) fs)
   TEnum _ _ -> 2
   TNumEnum _ e _ -> sizeOf (TElem e)
   TSubrange e _ _ -> sizeOf (TElem e)
@@ -2000,3 +2018,13 @@ locationType l = TElem $ case (locSize l, length (locAddress l)) of
   where
     tecomatArea = locArea l `elem` ("XYSR" :: String)
 
+
+-- | Data without instances, which a union's bytes can hold.
+plainData :: Type -> Bool
+plainData = \case
+  TFB _ -> False
+  TProgram _ -> False
+  TArray _ t -> plainData t
+  TStruct _ fs -> all (plainData . snd) fs
+  TUnion _ fs -> all (plainData . snd) fs
+  _ -> True

@@ -25,6 +25,7 @@ import Stref.Conformance.Protocol
 import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
 import Stref.IEC.Checked
 import Stref.IEC.Eval
+import Stref.IEC.Memory (unionMember)
 import Stref.IEC.Parser (parseUnit, parseUnitExpr)
 import Stref.IEC.Syntax
 import Stref.IEC.Types
@@ -179,6 +180,7 @@ valueScalar = \case
     | otherwise -> SNumber (fromFloatDigits d)
   VArray _ xs -> SList (map valueScalar (foldr (:) [] xs))
   VStruct fs -> SMap (M.map valueScalar fs)
+  u@(VUnion fs _) -> SMap (M.fromList [(k, valueScalar x) | (k, _) <- fs, Just x <- [unionMember k u]])
   VInstance _ fs -> SMap (M.map valueScalar (M.filterWithKey (\k _ -> not ("$" `T.isInfixOf` k)) fs))
   v -> SText (renderValue v)
 

@@ -34,7 +34,7 @@ import Numeric (showHex)
 import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert)
-import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, sizeInBytes)
+import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binary, unary)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..))
@@ -656,6 +656,7 @@ granularity :: Layout -> Type -> Integer
 granularity ly t = case t of
   TArray _ et -> granularity ly et
   TStruct _ fs -> maximum (1 : [granularity ly ft | (_, ft) <- fs])
+  TUnion _ fs -> maximum (1 : [granularity ly ft | (_, ft) <- fs])
   TFB n -> maximum (1 : [granularity ly ft | (_, ft) <- lyMembers ly n])
   _ -> sizeInBytes ly t
 
@@ -791,6 +792,7 @@ walk :: [Step] -> Value -> Maybe Value
 walk [] v = Just v
 walk (s : rest) v = case (s, v) of
   (StepField f, VStruct fs) -> M.lookup f fs >>= walk rest
+  (StepField f, VUnion {}) -> unionMember f v >>= walk rest
   (StepField f, VInstance _ fs) -> M.lookup f fs >>= walk rest
   (StepIndex is, VArray bs xs) -> Seq.lookup (linearIndex bs is) xs >>= walk rest
   (StepBit i, VInt e n) -> walk rest (VBool (testBit (n `mod` (2 ^ intBits e)) i))
@@ -809,6 +811,7 @@ updateAt steps v = go steps
     go [] _ = v
     go (s : rest) old = case (s, old) of
       (StepField f, VStruct fs) -> VStruct (M.insert f (go rest (M.findWithDefault (VBool False) f fs)) fs)
+      (StepField f, VUnion {}) -> setUnionMember f (go rest) old
       (StepField f, VInstance n fs) -> VInstance n (M.insert f (go rest (M.findWithDefault (VBool False) f fs)) fs)
       (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (go rest) (linearIndex bs is) xs)
       -- NX-OP-93: a bit set or cleared, the rest of the integer kept
@@ -955,6 +958,7 @@ readVariablePath prog m = readPath . throughList prog
       [] -> Just t
       StepField f : more -> case t of
         TStruct _ fs -> lookup f [(key n, ft) | (n, ft) <- fs] >>= \ft -> typeAt ft more
+        TUnion _ fs -> lookup f [(key n, ft) | (n, ft) <- fs] >>= \ft -> typeAt ft more
         TFB n -> lookupPou prog n >>= \d -> varByKey d f >>= \v -> typeAt (viType v) more
         _ -> Nothing
       StepIndex _ : more -> case t of

@@ -9,11 +9,16 @@
 -- * Each scalar is aligned to its size, a string to its character, an array
 --   to its element; a structure's and an instance's members follow one
 --   another in declaration order, each at its alignment, and the whole is
---   rounded up to its largest alignment. Array elements are contiguous,
+--   rounded up to its largest alignment. A union's members all start at
+--   its first byte; its size is its largest member's, rounded up likewise. Array elements are contiguous,
 --   the last index varying fastest.
 -- * The globals lie one after the other from 16#0001_0000, the program
 --   instances from 16#4000_0000, the frame of a call at depth d at
 --   16#8000_0000 + d * 16#0100_0000. Address 0 is the null pointer.
+-- * Bytes are little-endian; REAL and LREAL are their IEEE 754 patterns,
+--   TIME and TOD milliseconds, LTIME nanoseconds, DATE and DT seconds since
+--   1970, an enumeration the position of its value, a string its
+--   characters then NULs (the encoding a union's members share).
 --
 -- Programs cannot depend on where a variable lies, only on distances inside
 -- one variable (@ADR(a[2]) - ADR(a[1])@) and on pointer arithmetic in bytes.
@@ -28,13 +33,25 @@ module Stref.IEC.Memory
   , frameBase
   , frameSpan
   , placeAll
+  , encode
+  , decode
+  , unionMember
+  , setUnionMember
   ) where
 
-import Data.List (find)
+import Data.Bits (shiftL, shiftR, (.&.))
+import Data.Char (chr, ord)
+import Data.Foldable (toList)
+import Data.List (dropWhileEnd, elemIndex, find)
+import qualified Data.Map.Strict as M
+import Data.Maybe (fromMaybe, listToMaybe)
+import qualified Data.Sequence as Seq
 import Data.Text (Text)
 import qualified Data.Text as T
+import Data.Word (Word8)
+import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Types
-import Stref.IEC.Values (Step (..))
+import Stref.IEC.Values (Step (..), Value (..), defaultValue, wrapInt)
 
 -- | What the layout needs to know of the unit: the members (upper-case
 -- names and types) of a function block or program type.
@@ -49,6 +66,10 @@ sizeAlign ly = \case
   TEnum _ _ -> (2, 2)
   TNumEnum _ e _ -> let n = elemSize e in (n, n)
   TSubrange e _ _ -> let n = elemSize e in (n, n)
+  TUnion _ fs ->
+    let sas = map (sizeAlign ly . snd) fs
+        al = maximum (1 : map snd sas)
+     in (alignUp al (maximum (0 : map fst sas)), al)
   TFB n -> record (map snd (lyMembers ly n))
   TProgram n -> record (map snd (lyMembers ly n))
   TPointer _ -> (4, 4)
@@ -75,7 +96,12 @@ count bs = product [hi - lo + 1 | (lo, hi) <- bs]
 
 -- | The members of a structured type with their offsets.
 members :: Layout -> Type -> Maybe [(Text, Type, Integer)]
-members ly t = place <$> case t of
+members ly t = case t of
+  TUnion _ fs -> Just [(T.toUpper k, ft, 0) | (k, ft) <- fs]
+  _ -> members' ly t
+
+members' :: Layout -> Type -> Maybe [(Text, Type, Integer)]
+members' ly t = place <$> case t of
   TStruct _ fs -> Just [(T.toUpper k, ft) | (k, ft) <- fs]
   TFB n -> Just (lyMembers ly n)
   TProgram n -> Just (lyMembers ly n)
@@ -123,8 +149,9 @@ locate ly t off want
           else (StepIndex (unlinear bs i) :) <$> locate ly et r want
       _ -> do
         ms <- members ly t
-        (k, ft, fo) <- find (\(_, ft, fo) -> off >= fo && off < fo + max 1 (sizeInBytes ly ft)) ms
-        (StepField k :) <$> locate ly ft (off - fo) want
+        -- in a union every member holds the offset: the first that has a
+        -- variable of the type there
+        listToMaybe [StepField k : found | (k, ft, fo) <- ms, off >= fo && off < fo + max 1 (sizeInBytes ly ft), Just found <- [locate ly ft (off - fo) want]]
   where
     fits a b = case (a, b) of
       (TFB _, TFB _) -> True
@@ -149,3 +176,86 @@ placeAll ly base = reverse . snd . foldl step (base, [])
       let (s, a) = sizeAlign ly t
           at = alignUp (max 1 a) off
        in (at + max 1 s, (x, t, at) : acc)
+
+------------------------------------------------------------------------------
+-- Bytes of a value (UNION: NX-TYPE-72, NX-TYPE-73)
+
+-- | The bytes of a value of a type, as many as its size.
+encode :: Type -> Value -> [Word8]
+encode t v = case (t, v) of
+  (TElem BOOL, VBool b) -> [if b then 1 else 0]
+  (TElem e, VInt _ n) | isInt e -> le (intBits e `div` 8) n
+  (TElem REAL, VReal f) -> le 4 (toInteger (castFloatToWord32 f))
+  (TElem LREAL, VLReal d) -> le 8 (toInteger (castDoubleToWord64 d))
+  (TElem e, VTime _ n) -> le (if e == LTIME then 8 else 4) n
+  (TElem _, VDate ms) -> le 4 (ms `div` 1000)
+  (TElem _, VDT ms) -> le 4 (ms `div` 1000)
+  (TElem _, VTod ms) -> le 4 ms
+  (TString w n, VString s) ->
+    let unit = if w then 2 else 1
+     in take (unit * (n + 1)) (concatMap (le unit . toInteger . ord) (T.unpack s) ++ repeat 0)
+  (TArray _ et, VArray _ xs) -> concatMap (encode et) (toList xs)
+  (TStruct _ _, VStruct fs) -> record [(ft, fo, M.lookup k fs) | (k, ft, fo) <- fromMaybe [] (members noFBs t)]
+  (TUnion _ _, VUnion _ bs) -> take size (bs ++ repeat 0)
+  (TEnum _ vs, VEnum _ x) -> le 2 (maybe 0 toInteger (elemIndex x vs))
+  (TNumEnum _ e _, VInt _ n) -> le (intBits e `div` 8) n
+  (TSubrange e _ _, VInt _ n) -> le (intBits e `div` 8) n
+  (TPointer _, VInt _ n) -> le 4 n
+  _ -> replicate size 0
+  where
+    size = fromInteger (sizeInBytes noFBs t)
+    le k n = [fromInteger ((n `shiftR` (8 * i)) .&. 255) | i <- [0 .. k - 1]]
+    record parts = foldl (\bs (ft, fo, x) -> maybe bs (overlay bs (fromInteger fo) . encode ft) x) (replicate size 0) parts
+    overlay bs at new = take at bs ++ new ++ drop (at + length new) bs
+
+-- | The value of a type that bytes hold.
+decode :: Type -> [Word8] -> Value
+decode t bs = case t of
+  TElem BOOL -> VBool (any (/= 0) (take 1 bs))
+  TElem e | isInt e -> VInt e (wrapInt e (num (intBits e `div` 8)))
+  TElem REAL -> VReal (castWord32ToFloat (fromInteger (num 4)))
+  TElem LREAL -> VLReal (castWord64ToDouble (fromInteger (num 8)))
+  TElem LTIME -> VTime LTIME (signed 64 (num 8))
+  TElem TIME -> VTime TIME (num 4)
+  TElem DATE -> VDate (num 4 * 1000)
+  TElem DT -> VDT (num 4 * 1000)
+  TElem TOD -> VTod (num 4)
+  TElem _ -> defaultValue t
+  TString w _ ->
+    let unit = if w then 2 else 1
+        chars = [fromInteger (leNum (take unit (drop i bs))) | i <- [0, unit .. length bs - unit]]
+     in VString (T.pack (map chr (takeWhile (/= 0) chars)))
+  TArray b et ->
+    let s = fromInteger (sizeInBytes noFBs et)
+     in VArray b (Seq.fromList [decode et (take s (drop (i * s) bs)) | i <- [0 .. fromInteger (product [hi - lo + 1 | (lo, hi) <- b]) - 1]])
+  TStruct _ _ -> VStruct (M.fromList [(k, decode ft (drop (fromInteger fo) bs)) | (k, ft, fo) <- fromMaybe [] (members noFBs t)])
+  TUnion _ fs -> VUnion [(T.toUpper k, ft) | (k, ft) <- fs] (dropWhileEnd (== 0) (take (fromInteger (sizeInBytes noFBs t)) bs))
+  TEnum n vs -> let i = num 2 in if i < toInteger (length vs) then VEnum n (vs !! fromInteger i) else defaultValue t
+  TNumEnum _ e _ -> VInt e (wrapInt e (num (intBits e `div` 8)))
+  TSubrange e _ _ -> VInt e (wrapInt e (num (intBits e `div` 8)))
+  TPointer _ -> VInt DWORD (num 4)
+  _ -> defaultValue t
+  where
+    num k = leNum (take k (bs ++ repeat 0))
+    leNum xs = sum [toInteger x `shiftL` (8 * i) | (i, x) <- zip [0 ..] xs]
+    signed bits n = if n >= 2 ^ (bits - 1 :: Int) then n - 2 ^ bits else n
+
+-- | NX-TYPE-72, NX-TYPE-73: a member of a union reads the bytes the
+-- union holds.
+unionMember :: Text -> Value -> Maybe Value
+unionMember k = \case
+  VUnion fs bs -> (`decode` bs) <$> lookup k fs
+  _ -> Nothing
+
+-- | Writing a member of a union replaces the bytes it covers; the bytes
+-- beyond it keep what the union held.
+setUnionMember :: Text -> (Value -> Value) -> Value -> Value
+setUnionMember k f = \case
+  VUnion fs bs | Just t <- lookup k fs ->
+    let new = encode t (f (decode t bs))
+     in VUnion fs (dropWhileEnd (== 0) (new ++ drop (length new) bs))
+  v -> v
+
+-- | Unions and structures hold no FB instances: their layout needs none.
+noFBs :: Layout
+noFBs = Layout (const [])

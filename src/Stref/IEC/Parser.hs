@@ -562,6 +562,7 @@ typeSpec pol = do
         TSArray p dims <$> typeSpec pol
     , extensionP pol (kw pol "POINTER" *> kw pol "TO" *> (TSPointer p <$> typeSpec pol))
     , kw pol "STRUCT" *> (TSStruct p . concat <$> many (varDecls pol)) <* kw pol "END_STRUCT"
+    , extensionP pol (kw pol "UNION" *> (TSUnion p . concat <$> many (varDecls pol)) <* kw pol "END_UNION")
     , do
         items <- symbol pol "(" *> enumItem pol `sepBy1` symbol pol "," <* symbol pol ")"
         base <- if codesys pol then optional (try (name pol <* notFollowedBy (symbol pol ":" <|> symbol pol ","))) else pure Nothing

@@ -76,6 +76,7 @@ data TypeSpec
   | TSString Pos Bool (Maybe Expr) -- ^ @STRING[n]@ / @WSTRING[n]@ (True: wide)
   | TSArray Pos [(Expr, Expr)] TypeSpec -- ^ @ARRAY [a..b, c..d] OF T@
   | TSStruct Pos [VarDecl] -- ^ @STRUCT ... END_STRUCT@
+  | TSUnion Pos [VarDecl] -- ^ CODESYS: @UNION ... END_UNION@ (NX-TYPE-72)
   | TSEnum Pos [(Pos, Name, Maybe Expr)] (Maybe Name) -- ^ @(a, b, c)@; CODESYS: @(a, b := 10) DINT@ (NX-TYPE-57)
   | TSSubrange Pos Name (Expr, Expr) -- ^ @INT (lo..hi)@
   | TSPointer Pos TypeSpec -- ^ CODESYS: @POINTER TO T@ (NX-TYPE-74)

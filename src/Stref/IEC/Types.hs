@@ -66,6 +66,7 @@ data Type
   -- ^ policy enumerations = integer (CODESYS, NX-TYPE-57..67): the type's
   -- name, its base type and its values; a value is a number of the base type
   | TPointer Type -- ^ CODESYS: @POINTER TO T@; its value is an address, a DWORD (NX-TYPE-74, NX-TYPE-78)
+  | TUnion Text [(Text, Type)] -- ^ CODESYS: a @UNION@, whose members share their storage (NX-TYPE-72, NX-TYPE-73)
   deriving (Eq, Ord, Show)
 
 allElems :: [Elem]
@@ -146,6 +147,7 @@ typeText = \case
   TString w n -> (if w then "WSTRING[" else "STRING[") <> T.pack (show n) <> "]"
   TArray bs t -> "ARRAY [" <> T.intercalate ", " [T.pack (show a) <> ".." <> T.pack (show b) | (a, b) <- bs] <> "] OF " <> typeText t
   TStruct n _ -> if T.null n then "STRUCT" else n
+  TUnion n _ -> if T.null n then "UNION" else n
   TEnum n _ -> if T.null n then "an enumeration" else n
   TSubrange e a b -> elemName e <> " (" <> T.pack (show a) <> ".." <> T.pack (show b) <> ")"
   TFB n -> n

@@ -29,6 +29,7 @@ import qualified Data.Map.Strict as M
 import Data.Sequence (Seq)
 import qualified Data.Sequence as Seq
 import Data.Text (Text)
+import Data.Word (Word8)
 import qualified Data.Text as T
 import Data.Time.Calendar (addDays, fromGregorian, toGregorian)
 import Numeric (showFFloat, showHex)
@@ -47,6 +48,7 @@ data Value
   | VEnum !Text !Text -- ^ the type's name and the value's name (as declared)
   | VArray ![(Integer, Integer)] !(Seq Value) -- ^ bounds and elements, row-major (TC-TYPE-43)
   | VStruct !(Map Text Value) -- ^ fields by upper-case name
+  | VUnion ![(Text, Type)] ![Word8] -- ^ a UNION: its members (upper-case names, in order) and the bytes they share, without trailing zeros (Stref.IEC.Memory)
   | VInstance !Text !(Map Text Value) -- ^ an FB or program instance: its type and variables by upper-case name
   | VRef !RefPath -- ^ a VAR_IN_OUT parameter: where the caller's variable lies
   deriving (Eq, Show)
@@ -89,6 +91,7 @@ defaultValue = \case
   TString _ _ -> VString ""
   TArray bs t -> VArray bs (Seq.replicate (fromInteger (product [hi - lo + 1 | (lo, hi) <- bs])) (defaultValue t))
   TStruct _ fs -> VStruct (M.fromList [(T.toUpper n, defaultValue t) | (n, t) <- fs])
+  TUnion _ fs -> VUnion [(T.toUpper n, t) | (n, t) <- fs] []
   TEnum n (v : _) -> VEnum n v
   TEnum n [] -> VEnum n ""
   TSubrange e lo _ -> VInt e lo
@@ -146,6 +149,7 @@ renderValue = \case
   VEnum t v -> if T.null t then v else t <> "#" <> v
   VArray _ xs -> "[" <> T.intercalate ", " (map renderValue (foldr (:) [] xs)) <> "]"
   VStruct fs -> "(" <> T.intercalate ", " [k <> " := " <> renderValue v | (k, v) <- M.toList fs] <> ")"
+  VUnion _ bs -> "UNION#16#" <> T.pack (concatMap (\b -> (if b < 16 then "0" else "") <> showHex b "") bs)
   VInstance t _ -> "<instance of " <> t <> ">"
   VRef _ -> "<reference>"
   where
