@@ -105,6 +105,24 @@ spec = describe "the nexto dialect" $ do
     it "subrange-initial: zero starts a range that holds 0 at 0, lower-bound at its lower bound (NX-TYPE-35, TC-TYPE-21)" $ do
       runMain nexto "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT 0)
       runMain nexto {pSubrangeInitial = SubrangeLowerBound} "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT (-40))
+  describe "literals, shifts, ADR of a POU, CONCAT" $ do
+    it "a typed literal beyond a signed type's range but within its width is a bit pattern (NX-LEX-33); tecomat rejects it" $ do
+      runMain nexto "VAR d : DINT := DINT#16#FFFFFFFF; i : INT; END_VAR i := INT#16#8000;" 1 "i" `shouldBe` Right (VInt INT (-32768))
+      runMain nexto "VAR d : DINT := DINT#16#FFFFFFFE; END_VAR" 1 "d" `shouldBe` Right (VInt DINT (-2))
+      fmap fst (rejectKind nexto "PROGRAM MAIN\nVAR d : DINT := DINT#16#1FFFFFFFF; END_VAR\nEND_PROGRAM\n") `shouldBe` Just "value-out-of-limits"
+      fmap fst (rejectKind tecomat "PROGRAM MAIN\nVAR d : DINT := DINT#16#FFFFFFFF; END_VAR\nEND_PROGRAM\n") `shouldBe` Just "value-out-of-limits"
+    it "a shifted constant takes the smallest type that holds it, whatever the context (NX-OP-50)" $ do
+      runMain nexto "VAR w : WORD; END_VAR w := SHL(16#45, 2);" 1 "w" `shouldBe` Right (VInt WORD 0x14)
+      runMain nexto "VAR w : WORD; END_VAR w := ROL(16#145, 8);" 1 "w" `shouldBe` Right (VInt WORD 0x4501)
+      runMain tecomat "VAR w : WORD; END_VAR w := SHL(16#45, 2);" 1 "w" `shouldBe` Right (VInt WORD 0x114)
+    it "ADR of a function is a DWORD, not 0, the same each time, another for another POU (NX-TYPE-79)" $ do
+      let src = "FUNCTION f : INT\nf := 1;\nEND_FUNCTION\nFUNCTION g : INT\ng := 2;\nEND_FUNCTION\nPROGRAM MAIN\nVAR a, b : DWORD; same, differ : BOOL; END_VAR\na := ADR(f); b := ADR(g); same := a = ADR(f) AND a <> 0; differ := a <> b;\nEND_PROGRAM\n"
+      runUnit nexto src 1 "MAIN.same" `shouldBe` Right (VBool True)
+      runUnit nexto src 1 "MAIN.differ" `shouldBe` Right (VBool True)
+    it "CONCAT has two inputs under standard-library = codesys, more under iec (NX-STR-6, TC-STR-7)" $ do
+      fmap fst (rejectKind nexto "PROGRAM MAIN\nVAR txt : STRING; END_VAR\ntxt := CONCAT('a', 'b', 'c');\nEND_PROGRAM\n") `shouldBe` Just "too-many-arguments"
+      runMain nexto {pStandardLibrary = LibraryIec} "VAR txt : STRING; END_VAR txt := CONCAT('a', 'b', 'c');" 1 "txt" `shouldBe` Right (VString "abc")
+      runMain nexto "VAR txt : STRING; END_VAR txt := CONCAT(STR1 := 'a', STR2 := 'b');" 1 "txt" `shouldBe` Right (VString "ab")
   describe "UNION (NX-TYPE-72, NX-TYPE-73)" $ do
     let unionSrc decls body = "TYPE U :\nUNION\n" <> decls <> "\nEND_UNION\nEND_TYPE\nPROGRAM MAIN\nVAR u : U; a : ARRAY [1..2] OF U; x : DWORD; b : BYTE; rv : REAL; txt2 : STRING; p : POINTER TO BYTE; END_VAR\n" <> body <> "\nEND_PROGRAM\n"
     it "a REAL member reads as its IEEE 754 pattern in a DWORD member" $ do

@@ -28,7 +28,7 @@ import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
 import Stref.IEC.Memory (Layout (..), sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
-import Stref.IEC.Standard (libraryFunction, standardParameters, standardType)
+import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
 import Stref.IEC.StandardFB (libraryTypes, standardFBNames, standardFBs)
 import Stref.IEC.Syntax
 import Stref.IEC.Types
@@ -1530,6 +1530,7 @@ enumValue p n expected = do
 literal :: Pos -> Literal -> C TExpr
 literal p = \case
   LInt n -> pure (CExpr p (TElem DINT) (CConst (VInt DINT n)), FlexInt n)
+  LBits n -> literal p (LInt n)
   LReal r _ -> pure (CExpr p (TElem LREAL) (CConst (VLReal (fromRational r))), FlexReal r)
   LBool b -> fixed p (TElem BOOL) (CConst (VBool b))
   LString s -> fixed p (TString False (max 1 (T.length s))) (CConst (VString s))
@@ -1543,12 +1544,19 @@ literal p = \case
   LDT ns -> fixed p (TElem DT) (CConst (VDT (ns `div` 1000000)))
   LTyped t l -> do
     ty <- resolveType (TSName p t)
+    codesysLiterals <- asks ((== ExtensionsCodesys) . pExtensions . envPol)
     case (baseElem ty, l) of -- TC-LEX-24
       (Just BOOL, LInt n) | n == 0 || n == 1 -> fixed p ty (CConst (VBool (n == 1)))
       (Just BOOL, LBool b) -> fixed p ty (CConst (VBool b))
       (Just LTIME, LTime ns) -> do
         unless (fitInt LTIME ns) (failC "value-out-of-limits" p "the duration lies outside the range of LTIME (NX-TYPE-33)")
         fixed p ty (CConst (VTime LTIME ns))
+      -- NX-LEX-33: under CODESYS a typed literal of a signed type beyond its
+      -- range but within its width is a bit pattern, DINT#16#FFFFFFFF = -1
+      (Just e, LBits n)
+        | isSignedInt e, codesysLiterals, n > snd (intRange e), n < 2 ^ intBits e ->
+            fixed p ty (CConst (VInt e (n - 2 ^ intBits e)))
+      (_, LBits n) -> typed ty (LInt n)
       (_, LInt _) -> typed ty l
       (_, LReal _ _) -> typed ty l
       (_, LString s) | TString {} <- ty -> fixed p ty (CConst (VString s))
@@ -1661,6 +1669,11 @@ typeHint depth e
     firstJust [] = pure Nothing
     firstJust (x : xs) = typeHint (depth - 1) x >>= maybe (firstJust xs) (pure . Just)
 
+-- | Where the code of the POUs lies (Stref.IEC.Memory lays out the data
+-- below it): the address ADR gives a POU.
+codeArea :: Integer
+codeArea = 0xC0000000
+
 -- | A function call in an expression: a conversion, a standard function or
 -- a user FUNCTION.
 callExpr :: Maybe Type -> Pos -> Text -> [Arg] -> C TExpr
@@ -1671,8 +1684,16 @@ callExpr expected p f args
       case args of
         -- NX-TYPE-75, NX-OP-68: the address of a variable
         [ArgPositional x] -> do
-          (ref, t, _) <- checkRef x
-          fixed p (TPointer t) (CAddressOf ref)
+          pous <- asks envPous
+          locals <- asks envLocals
+          case x of
+            -- NX-TYPE-79: the address of a function, program or FB, a DWORD
+            -- that no pointer of the program can follow (L5565-5569)
+            EVar _ n | M.member (key n) pous, not (M.member (key n) locals) ->
+              fixed p (TElem DWORD) (CConst (VInt DWORD (codeArea + 16 * toInteger (M.findIndex (key n) pous))))
+            _ -> do
+              (ref, t, _) <- checkRef x
+              fixed p (TPointer t) (CAddressOf ref)
         _ -> failC "too-many-arguments" p "ADR takes one variable"
   | key f == "SIZEOF" = case args of
       -- TC-STR-12: the declared size in bytes, an integer of the context's type
@@ -1749,7 +1770,13 @@ callStandard expected p f args = do
         tes <- mapM (infer (expected >>= numericLike)) a
         -- the selector of MUX and SEL does not type their inputs
         let nonFlex = [ceType c | (i, (c, Fixed)) <- zip [0 :: Int ..] tes, not (i == 0 && k `elem` ["MUX", "SEL"])]
-            candidates = [Just t | t <- take 1 nonFlex] ++ [expected >>= numericLike, Nothing]
+            -- NX-OP-50: a constant shifted or rotated takes the smallest
+            -- type that holds it, whatever the context expects
+            smallest = case tes of
+              (_, FlexInt n) : _ | k `elem` shiftNames, pExtensions pol == ExtensionsCodesys ->
+                take 1 [TElem e | e <- [BYTE, WORD, DWORD, LWORD], fitInt e n]
+              _ -> []
+            candidates = map Just smallest ++ [Just t | t <- take 1 nonFlex] ++ [expected >>= numericLike, Nothing]
         r <- firstOk pol False tes candidates >>= maybe (firstOk pol True tes candidates) (pure . Just)
         case r of
           Just (cs, t) -> fixed p t (CStandard k cs)

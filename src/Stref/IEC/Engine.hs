@@ -251,6 +251,7 @@ literalValue pol ty t = case parseUnitExpr pol t of
       (TElem DT, LDT ns) -> Just (VDT (ns `div` 1000000))
       (TString _ _, LString s) -> Just (VString s)
       (TString _ _, LWString s) -> Just (VString s)
+      (_, LBits n) -> fromLit (LInt n)
       (TElem e, LInt n) | isInt e, fitInt e n -> Just (VInt e n)
       (TNumEnum _ e _, LInt n) | fitInt e n -> Just (VInt e n)
       (TElem REAL, LReal r _) -> Just (VReal (fromRational r))

@@ -266,7 +266,11 @@ readIn base = T.foldl' (\acc c -> acc * toInteger base + toInteger (digitToInt c
 
 -- | Integer and real literals (TC-LEX-20..23).
 number :: Policies -> Parser Literal
-number pol = lexeme pol $ do
+number pol = numberAs pol LInt
+
+-- | A number whose based integers are made by the function given.
+numberAs :: Policies -> (Integer -> Literal) -> Parser Literal
+numberAs pol basedInt = lexeme pol $ do
   start <- getOffset
   intPart <- digitsIn 10
   based <- optional (try (char '#' *> lookAhead (satisfy isHexDigit)))
@@ -274,7 +278,7 @@ number pol = lexeme pol $ do
     Just _ -> do
       let b = readIn 10 intPart
       when (b `notElem` [2, 8, 16]) (fail ("base " <> show b <> " is not one of 2, 8, 16"))
-      LInt . readIn (fromInteger b) <$> digitsIn (fromInteger b)
+      basedInt . readIn (fromInteger b) <$> digitsIn (fromInteger b)
     Nothing -> do
       frac <- optional (try (char '.' *> digitsIn 10))
       ex <- optional (try (satisfy (`elem` ("eE" :: String)) *> exponentP))
@@ -466,7 +470,7 @@ prefixed pol = do
       | otherwise -> do
           inner <-
             choice
-              [ Left <$> number pol
+              [ Left <$> numberAs pol LBits
               , Left . LBool <$> (True <$ kw pol "TRUE" <|> False <$ kw pol "FALSE")
               , Left . LString <$> stringLit pol '\''
               , Left . LWString <$> stringLit pol '"'

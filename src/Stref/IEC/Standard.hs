@@ -27,6 +27,7 @@ module Stref.IEC.Standard
   , standard
   , libraryFunction
   , timeFunction
+  , shiftNames
   ) where
 
 import Control.Monad (foldM, unless, zipWithM, zipWithM_)
@@ -123,6 +124,7 @@ standardParameters p name n = case T.toUpper name of
   f
     | Just (params, _) <- libraryFunction p f -> Just (map fst params)
     | f `elem` (["ABS", "MOVE", "NOT", "LEN"] ++ map fst realFunctions) -> Just ["IN"]
+    | f == "CONCAT", pStandardLibrary p == LibraryCodesys -> Just ["STR1", "STR2"] -- NX-STR-6
     | f `elem` (map fst extensibleOps ++ map fst chainOps ++ ["MAX", "MIN", "CONCAT"]) -> Just (numbered 1 (max 2 n))
     | f `elem` (map fst pairOps ++ ["NE", "FIND"]) -> Just ["IN1", "IN2"]
     | f `elem` shiftNames -> Just ["IN", "N"]
@@ -177,7 +179,7 @@ typing p f ts = case f of
   "LEFT" -> Just (exactly 2 >> int 2 >> firstString) -- TC-STR-4
   "RIGHT" -> Just (exactly 2 >> int 2 >> firstString) -- TC-STR-5
   "MID" -> Just (exactly 3 >> int 2 >> int 3 >> firstString) -- TC-STR-6
-  "CONCAT" -> Just ((if codesys then exactly 2 else atLeast 2) >> summed [1 .. length ts]) -- TC-STR-7; NX-STR-6: two inputs
+  "CONCAT" -> Just ((if pStandardLibrary p == LibraryCodesys then exactly 2 else atLeast 2) >> summed [1 .. length ts]) -- TC-STR-7; NX-STR-6: two inputs
   "INSERT" -> Just (exactly 3 >> int 3 >> summed [1, 2]) -- TC-STR-8
   "DELETE" -> Just (exactly 3 >> int 2 >> int 3 >> firstString) -- TC-STR-9
   "REPLACE" -> Just (exactly 4 >> int 3 >> int 4 >> summed [1, 2]) -- TC-STR-10

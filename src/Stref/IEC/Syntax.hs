@@ -299,6 +299,7 @@ data Literal
   | LReal Rational Text -- ^ an untyped real, exactly, and as written
   | LBool Bool
   | LTyped Name Literal -- ^ @INT#5@, @REAL#1.0@, @BOOL#1@ (TC-LEX-24)
+  | LBits Integer -- ^ a based integer after a type, @DINT#16#FFFFFFFF@ (a bit pattern under CODESYS: NX-LEX-33)
   | LString Text -- ^ after escapes (TC-LEX-28..38)
   | LWString Text
   | LTime Integer -- ^ a duration, exactly, in nanoseconds (TC-LEX-41, TC-LEX-44)
