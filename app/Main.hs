@@ -12,6 +12,7 @@ import System.IO (hFlush, hPutStrLn, stderr, stdout)
 import System.IO.Error (ioeGetErrorType, ioeGetHandle)
 import GHC.IO.Exception (IOErrorType (ResourceVanished))
 import qualified Stref
+import qualified Cmd.Adapter
 import qualified Cmd.Check
 import qualified Cmd.Conformance
 import qualified Cmd.Coverage
@@ -26,7 +27,7 @@ commands :: Mod CommandFields (IO ExitCode)
 commands =
   mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
     <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command <> Cmd.Explore.command
-    <> Cmd.Fuzz.command
+    <> Cmd.Fuzz.command <> Cmd.Adapter.command
 
 main :: IO ()
 main = do

@@ -6,7 +6,7 @@ module Cmd.Conformance (Cmd.Conformance.command) where
 
 import Cmd.PolicyOptions
 import Control.Monad (when)
-import Data.Maybe (fromMaybe)
+import Data.Maybe (fromMaybe, isJust)
 import GHC.Conc (getNumProcessors, setNumCapabilities)
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
@@ -20,7 +20,9 @@ import qualified Options.Applicative
 import Stref.Conformance.Corpus
 import Stref.Conformance.Report
 import Stref.Conformance.Runner
+import Stref.Engines.Run (engineByName, engName, findTools)
 import Stref.Policy (policyAssignments)
+import System.Environment (getExecutablePath)
 import System.Exit
 import System.IO (stderr)
 import Text.Read (readMaybe)
@@ -106,6 +108,15 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
         -- process: use the cores
         cores <- getNumProcessors
         when (oJobs o > 1) (setNumCapabilities (max 1 (min (oJobs o) cores)))
+        -- a named engine is its adapter, run as this program
+        adapter <- case oEngine o >>= engineByName . T.pack of
+          Nothing -> pure (Right (oEngine o))
+          Just e -> do
+            found <- findTools e
+            self <- getExecutablePath
+            pure (fmap (const (Just (shellQuote self <> " adapter " <> T.unpack (engName e)))) found)
+        either (\why -> usage why >>= exitWith) (const (pure ())) adapter
+        let isAdapter = isJust (oEngine o >>= engineByName . T.pack)
         corpus <- loadCorpusWith (oJobs o) paths
         mapM_ (TIO.hPutStrLn stderr) (corpusErrors corpus)
         if null (corpusEntries corpus)
@@ -113,7 +124,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
           else do
             let options =
                   defaultRunOptions
-                    { roEngine = maybe (Reference []) External (oEngine o)
+                    { roEngine = maybe (Reference []) External (either (const Nothing) id adapter)
                     , roPolicies = policies
                     -- without --preset, every case runs under its own dialect's preset
                     , roOverrides = maybe (Just (oPolicies o)) (const Nothing) (oPreset o)
@@ -122,7 +133,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
                     , roFilters = oFilters o
                     , roFeatures = oFeatures o
                     , roRules = oRules o
-                    , roTimeout = fromMaybe (maybe 300 (const 10) (oEngine o)) (oTimeout o)
+                    , roTimeout = fromMaybe (maybe 300 (const (if isAdapter then 60 else 10)) (oEngine o)) (oTimeout o)
                     , roKnownFailures = knownSet
                     , roMaxAnswerBytes = oMaxAnswer o
                     }
@@ -142,3 +153,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
               Just file -> BL.writeFile file report >> TIO.putStr text
               Nothing -> BLC.putStr report
             pure (if any failing results || not (null (corpusErrors corpus)) then ExitFailure 1 else ExitSuccess)
+
+-- | A path as one word of a shell command line.
+shellQuote :: FilePath -> String
+shellQuote p = "'" <> concatMap (\c -> if c == '\'' then "'\\''" else [c]) p <> "'"

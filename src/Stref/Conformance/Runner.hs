@@ -19,6 +19,7 @@ module Stref.Conformance.Runner
   , buildRequest
   , judge
   , judgeWith
+  , varComparison
   , casePolicies
   , askEngine
   , runExternal

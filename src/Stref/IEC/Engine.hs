@@ -9,6 +9,7 @@ module Stref.IEC.Engine
   , parseVarPath
   , observedTypes
   , valueScalar
+  , locationOf
   , scalarValue
   , scalarsMatch
   , cycleMillis

@@ -1,0 +1,166 @@
+-- | Running a real engine installed by the user, through its adapter
+-- (docs/engines.md): find its tools, run them in a scratch directory,
+-- answer the stref-engine/1 request. The meaning of each step is in the
+-- adapter's pure module ("Stref.Engines.Matiec"); here are only files and
+-- processes.
+module Stref.Engines.Run
+  ( Engine (..)
+  , engines
+  , engineByName
+  , Tools (..)
+  , findTools
+  , answerWith
+  ) where
+
+import Control.Exception (SomeException, bracket, try)
+import Data.List (isSuffixOf, sort)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.IO as TIO
+import Stref.Conformance.Protocol
+import Stref.Engine (requestPolicies)
+import qualified Stref.Engines.Matiec as Matiec
+import Stref.Policy (Model (..), Policies (..))
+import System.Directory
+import System.Environment (lookupEnv)
+import System.Exit (ExitCode (..))
+import System.FilePath ((</>))
+import System.IO (hClose, hPutStrLn, openTempFile, stderr)
+import System.Process (proc, readCreateProcessWithExitCode)
+import System.Timeout (timeout)
+
+-- | An engine stref has an adapter for.
+data Engine = Engine
+  { engName :: Text -- ^ as given to @--engine@
+  , engTitle :: Text
+  , engVariable :: String -- ^ the environment variable that locates it
+  , engOnPath :: Maybe String -- ^ the program looked for on PATH when the variable is not set
+  }
+
+engines :: [Engine]
+engines =
+  [ Engine "matiec" "MATIEC (iec2c of Beremiz)" "STREF_MATIEC" (Just "iec2c")
+  , Engine "openplc" "OpenPLC's fork of MATIEC" "STREF_OPENPLC" Nothing
+  ]
+
+engineByName :: Text -> Maybe Engine
+engineByName n = case filter ((== T.toLower n) . engName) engines of
+  e : _ -> Just e
+  [] -> Nothing
+
+-- | Where the engine's tools are.
+data Tools = Tools
+  { tCompiler :: FilePath -- ^ iec2c
+  , tLibrary :: FilePath -- ^ its lib directory (the ST declarations, and lib/C)
+  , tCc :: FilePath -- ^ the C compiler
+  , tSeconds :: Int -- ^ time limit of one run of the compiled program
+  }
+
+-- | The engine's tools: the variable names a directory holding @iec2c@
+-- and @lib/@ (or @iec2c@ itself); without it, @iec2c@ on PATH with the
+-- @lib@ beside it. @STREF_MATIEC_LIB@ overrides the library, @STREF_CC@
+-- the C compiler (default @cc@). Left: why the engine is not there.
+findTools :: Engine -> IO (Either Text Tools)
+findTools e = do
+  var <- lookupEnv (engVariable e)
+  compiler <- case var of
+    Just v | not (null v) -> do
+      isDir <- doesDirectoryExist v
+      pure (Just (if isDir then v </> "iec2c" else v))
+    _ -> maybe (pure Nothing) findExecutable (engOnPath e)
+  case compiler of
+    Nothing -> pure (Left (engTitle e <> " is not installed: set " <> T.pack (engVariable e) <> " to the directory that holds iec2c and its lib/" <> maybe "" (\p -> ", or put " <> T.pack p <> " on PATH") (engOnPath e)))
+    Just c -> do
+      exists <- doesFileExist c
+      libVar <- lookupEnv "STREF_MATIEC_LIB"
+      let lib = maybe (takeDir c </> "lib") id libVar
+      libOk <- doesFileExist (lib </> "ieclib.txt")
+      ccVar <- lookupEnv "STREF_CC"
+      cc <- maybe (maybe "cc" id <$> findExecutable "cc") pure ccVar
+      pure $
+        if not exists
+          then Left (T.pack c <> " does not exist (" <> T.pack (engVariable e) <> ")")
+          else
+            if not libOk
+              then Left ("no ieclib.txt in " <> T.pack lib <> ": set STREF_MATIEC_LIB to iec2c's lib directory")
+              else Right (Tools c lib cc 10)
+  where
+    takeDir p = case reverse (dropWhile (/= '/') (reverse p)) of
+      "" -> "."
+      d -> d
+
+-- | The engine's answer to a request; Left: the adapter failed (the runner
+-- records @engine-error@).
+answerWith :: Tools -> Request -> IO (Either Text Answer)
+answerWith tools rq = case requestPolicies [] rq of
+  Left why -> pure (Right (AnswerUnsupported why))
+  Right pol
+    | pModel pol /= IecController -> pure (Right (AnswerUnsupported "MATIEC runs the IEC 61131-3 model, not the MasterTool XE controller"))
+    | otherwise -> case Matiec.plan pol rq of
+        Left why -> pure (Right (AnswerUnsupported why))
+        Right pl -> withScratch (run pl)
+  where
+    run pl dir = do
+      let source = dir </> T.unpack Matiec.caseFile
+      TIO.writeFile source (Matiec.planSource pl)
+      (rc, _, err) <- readCreateProcessWithExitCode (proc (tCompiler tools) ["-p", "-I", tLibrary tools, "-T", dir, source]) ""
+      case rc of
+        ExitFailure n -> do
+          writeFile (dir </> "iec2c.err") err
+          pure (Right (Matiec.compileAnswer n (T.pack err)))
+        ExitSuccess -> do
+          let header = dir </> "LOCATED_VARIABLES.h"
+          hasHeader <- doesFileExist header
+          located <- if hasHeader then Matiec.locatedNames <$> TIO.readFile header else pure []
+          case Matiec.driverSource pl located of
+            Left why -> pure (Right (AnswerUnsupported why))
+            Right driver -> do
+              TIO.writeFile (dir </> "stref_driver.c") driver
+              files <- sort . filter (\f -> ".c" `isSuffixOf` f && f `notElem` ["POUS.c", "stref_driver.c"]) <$> listDirectory dir
+              let include = ["-w", "-O0", "-fwrapv", "-I", tLibrary tools </> "C", "-I", dir]
+                  objects = [dir </> (take (length f - 2) f <> ".o") | f <- files]
+              -- iec2c's C first: where it does not compile, the engine's
+              -- tool chain rejects the program
+              generated <- mapM (\(f, o) -> readCreateProcessWithExitCode (proc (tCc tools) (include ++ ["-c", dir </> f, "-o", o])) "") (zip files objects)
+              case [e | (ExitFailure _, _, e) <- generated] of
+                e : _ -> pure (Right (AnswerRejected Nothing Nothing ("the C code iec2c generated does not compile: " <> T.pack (take 600 e))))
+                [] -> do
+                  (ccRc, _, ccErr) <- readCreateProcessWithExitCode (proc (tCc tools) (include ++ ["-c", dir </> "stref_driver.c", "-o", dir </> "stref_driver.o"])) ""
+                  (ldRc, _, ldErr) <- readCreateProcessWithExitCode (proc (tCc tools) (["-o", dir </> "program", dir </> "stref_driver.o"] ++ objects ++ ["-lm"])) ""
+                  case (ccRc, ldRc) of
+                    (ExitFailure _, _) -> pure (Left ("the driver did not compile: " <> T.pack (take 2000 ccErr)))
+                    -- a function the generated code calls that the engine's
+                    -- library lacks: its tool chain rejects the program
+                    (_, ExitFailure _) -> pure (Right (AnswerRejected Nothing Nothing ("the C code iec2c generated does not link: " <> linkErrors ldErr)))
+                    _ -> do
+                      out <- timeout (tSeconds tools * 1000000) (readCreateProcessWithExitCode (proc (dir </> "program") []) "")
+                      mapM_ (\(_, o, _) -> writeFile (dir </> "program.out") o) out
+                      pure . Right . Matiec.runAnswer pl $ case out of
+                        Nothing -> Matiec.TimedOut
+                        Just (_, o, _) -> Matiec.Finished (T.pack o)
+
+-- | The linker's errors, without its warnings.
+linkErrors :: String -> Text
+linkErrors out = T.take 600 (T.intercalate "; " [T.strip l | l <- T.lines (T.pack out), any (`T.isInfixOf` l) ["undefined reference", "error"]])
+
+-- | A scratch directory, removed afterwards unless @STREF_ADAPTER_KEEP@ is
+-- set (then its path is written to standard error, to look at what the
+-- engine was given and what it printed).
+withScratch :: (FilePath -> IO (Either Text a)) -> IO (Either Text a)
+withScratch act = do
+  tmp <- getTemporaryDirectory
+  keep <- lookupEnv "STREF_ADAPTER_KEEP"
+  let done path = case keep of
+        Just _ -> hPutStrLn stderr ("stref adapter: kept " <> path)
+        Nothing -> removePathForcibly path
+  r <- try $ bracket (mkScratch tmp) done act
+  pure $ case r of
+    Left (e :: SomeException) -> Left ("the adapter failed: " <> T.pack (show e))
+    Right x -> x
+  where
+    mkScratch tmp = do
+      (path, h) <- openTempFile tmp "stref-engine"
+      hClose h
+      removeFile path
+      createDirectory path
+      pure path
