@@ -20,6 +20,7 @@ import qualified Cmd.Engine
 import qualified Cmd.Eval
 import qualified Cmd.Explore
 import qualified Cmd.Fuzz
+import qualified Cmd.Matrix
 import qualified Cmd.Parse
 import qualified Cmd.Run
 
@@ -27,7 +28,7 @@ commands :: Mod CommandFields (IO ExitCode)
 commands =
   mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
     <> Cmd.Conformance.command <> Cmd.Engine.command <> Cmd.Coverage.command <> Cmd.Explore.command
-    <> Cmd.Fuzz.command <> Cmd.Adapter.command
+    <> Cmd.Fuzz.command <> Cmd.Adapter.command <> Cmd.Matrix.command
 
 main :: IO ()
 main = do

@@ -98,12 +98,22 @@ answerWith tools rq = case requestPolicies [] rq of
     | pModel pol /= IecController -> pure (Right (AnswerUnsupported "MATIEC runs the IEC 61131-3 model, not the MasterTool XE controller"))
     | otherwise -> case Matiec.plan pol rq of
         Left why -> pure (Right (AnswerUnsupported why))
-        Right pl -> withScratch (run pl)
+        Right pl -> withScratch (\dir -> fmap (scrubAnswer dir) <$> run pl dir)
   where
+    -- messages name files by their place in the scratch directory and the
+    -- engine's library, not by this machine's paths
+    scrub dir = T.replace (T.pack (tLibrary tools)) "<lib>" . T.replace (T.pack dir) "<scratch>"
+    scrubAnswer dir = \case
+      AnswerRejected l k m -> AnswerRejected l k (T.take 600 (scrub dir m))
+      a -> a
     run pl dir = do
       let source = dir </> T.unpack Matiec.caseFile
       TIO.writeFile source (Matiec.planSource pl)
-      (rc, _, err) <- readCreateProcessWithExitCode (proc (tCompiler tools) ["-p", "-I", tLibrary tools, "-T", dir, source]) ""
+      compiled <- timeout (compileSeconds * 1000000) (readCreateProcessWithExitCode (proc (tCompiler tools) ["-p", "-I", tLibrary tools, "-T", dir, source]) "")
+      case compiled of
+        Nothing -> pure (Right (AnswerRejected Nothing Nothing ("iec2c ran for more than " <> T.pack (show compileSeconds) <> " s on this program without finishing")))
+        Just result -> compiledWith pl dir result
+    compiledWith pl dir (rc, _, err) =
       case rc of
         ExitFailure n -> do
           writeFile (dir </> "iec2c.err") err
@@ -123,7 +133,7 @@ answerWith tools rq = case requestPolicies [] rq of
               -- tool chain rejects the program
               generated <- mapM (\(f, o) -> readCreateProcessWithExitCode (proc (tCc tools) (include ++ ["-c", dir </> f, "-o", o])) "") (zip files objects)
               case [e | (ExitFailure _, _, e) <- generated] of
-                e : _ -> pure (Right (AnswerRejected Nothing Nothing ("the C code iec2c generated does not compile: " <> T.pack (take 600 e))))
+                e : _ -> pure (Right (AnswerRejected Nothing Nothing ("the C code iec2c generated does not compile: " <> T.pack e)))
                 [] -> do
                   (ccRc, _, ccErr) <- readCreateProcessWithExitCode (proc (tCc tools) (include ++ ["-c", dir </> "stref_driver.c", "-o", dir </> "stref_driver.o"])) ""
                   (ldRc, _, ldErr) <- readCreateProcessWithExitCode (proc (tCc tools) (["-o", dir </> "program", dir </> "stref_driver.o"] ++ objects ++ ["-lm"])) ""
@@ -139,9 +149,13 @@ answerWith tools rq = case requestPolicies [] rq of
                         Nothing -> Matiec.TimedOut
                         Just (_, o, _) -> Matiec.Finished (T.pack o)
 
+-- | How long iec2c may take on one program (it can loop on some input).
+compileSeconds :: Int
+compileSeconds = 20
+
 -- | The linker's errors, without its warnings.
 linkErrors :: String -> Text
-linkErrors out = T.take 600 (T.intercalate "; " [T.strip l | l <- T.lines (T.pack out), any (`T.isInfixOf` l) ["undefined reference", "error"]])
+linkErrors out = (T.intercalate "; " [T.strip l | l <- T.lines (T.pack out), any (`T.isInfixOf` l) ["undefined reference", "error"]])
 
 -- | A scratch directory, removed afterwards unless @STREF_ADAPTER_KEEP@ is
 -- set (then its path is written to standard error, to look at what the
