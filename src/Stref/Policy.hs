@@ -46,6 +46,8 @@ module Stref.Policy
   , tecomat
   , nexto
   , presets
+  , matiec
+  , openplc
   , lookupPreset
   , PolicyInfo (..)
   , policyTable
@@ -409,9 +411,26 @@ nexto =
     , pSubrangeInitial = SubrangeZero -- NX-TYPE-35
     }
 
--- | Named presets: each dialect is an entry here, not a fork of the code.
+-- | An engine's preset: what MATIEC's upstream head does where the IEC
+-- language leaves a choice, found by running the tecomat corpus against it
+-- (docs/engines.md gives the evidence for each).
+matiec :: Policies
+matiec =
+  tecomat
+    { pFTrigInitial = FTrigFalse -- F_TRIG's memory starts FALSE: a first FALSE CLK is an edge
+    , pStringLength = 126 -- every STRING holds 126 characters
+    , pSubrange = SubrangeUnchecked -- a subrange's check function is generated but never called
+    }
+
+-- | OpenPLC's fork of MATIEC: as upstream, but F_TRIG gives no edge before
+-- a rising one.
+openplc :: Policies
+openplc = matiec {pFTrigInitial = FTrigTrue}
+
+-- | Named presets: each dialect is an entry here, not a fork of the code;
+-- so is each real engine's behaviour (docs/engines.md).
 presets :: [(Text, Policies)]
-presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto)]
+presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto), ("matiec", matiec), ("openplc", openplc)]
 
 lookupPreset :: Text -> Maybe Policies
 lookupPreset n = lookup n presets

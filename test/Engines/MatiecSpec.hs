@@ -16,7 +16,10 @@ import Stref.Conformance.Protocol
 import Stref.Conformance.Runner (Outcome (..), buildRequest, judgeWith, varComparison)
 import qualified Stref.Engines.Matiec as Matiec
 import Stref.Engines.Run (answerWith, engineByName, findTools)
-import Stref.Policy (tecomat)
+import Stref.IEC.Types (Elem (..))
+import Stref.IEC.Values (Value (..))
+import Stref.Policy (matiec, openplc, tecomat)
+import Support.Iec (runUnit)
 import System.Directory (doesFileExist)
 import System.FilePath ((<.>), (</>))
 import Test.Hspec
@@ -127,6 +130,12 @@ spec = describe "the MATIEC adapter" $ do
       Matiec.compileAnswer (-11) "" `shouldSatisfy` \case
         AnswerRejected Nothing _ m -> "crashed" `T.isInfixOf` m
         _ -> False
+  describe "the engine presets" $
+    it "matiec's F_TRIG gives an edge in the first cycle, openplc's does not; both hold 126 characters in a STRING" $ do
+      let src = "PROGRAM MAIN\nVAR f : F_TRIG; falls : INT; txt : STRING; idx : INT; END_VAR\nf(CLK := FALSE); IF f.Q THEN falls := falls + 1; END_IF;\ntxt := 'x'; FOR idx := 1 TO 200 DO txt := CONCAT(txt, 'x'); END_FOR;\nEND_PROGRAM\n"
+      runUnit matiec src 3 "MAIN.falls" `shouldBe` Right (VInt INT 1)
+      runUnit openplc src 3 "MAIN.falls" `shouldBe` Right (VInt INT 0)
+      fmap (\case VString t -> T.length t; _ -> 0) (runUnit matiec src 1 "MAIN.txt") `shouldBe` Right 126
   describe "live, with MATIEC installed (STREF_MATIEC or iec2c on PATH)" $
     forM_ cases $ \name ->
       it (name <> ": the engine answers as recorded") $ do

@@ -592,6 +592,14 @@ eval ce = case ceNode ce of
       (ExtensionsCodesys, VInt _ i) -> forM (zip [0 ..] ins) $ \(j, a) -> if j == i then eval a else pure (defaultValue (ceType a))
       _ -> mapM eval ins
     orFault (cePos ce) (standard pol "MUX" (map ceType (k : ins)) (kv : vs))
+  CStandard "SEL" [g, a, b] -> do
+    pol <- asks cxPol
+    gv <- eval g
+    -- NX-OP-62 (open; docs/nexto.md): CODESYS evaluates only the input G selects
+    vs <- case (pExtensions pol, gv) of
+      (ExtensionsCodesys, VBool sel) -> if sel then (\y -> [defaultValue (ceType a), y]) <$> eval b else (\x -> [x, defaultValue (ceType b)]) <$> eval a
+      _ -> mapM eval [a, b]
+    orFault (cePos ce) (standard pol "SEL" (map ceType [g, a, b]) (gv : vs))
   CStandard f args -> do
     pol <- asks cxPol
     vs <- mapM eval args

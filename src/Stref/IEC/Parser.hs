@@ -199,7 +199,7 @@ keywordsOf pol
   | otherwise = keywords
 
 codesysKeywords :: Set.Set Text
-codesysKeywords = Set.fromList ["CONTINUE", "JMP", "POINTER", "REFERENCE", "METHOD", "END_METHOD", "PROPERTY", "END_PROPERTY", "EXTENDS", "THIS", "SUPER", "UNION", "END_UNION", "VAR_STAT", "PERSISTENT"]
+codesysKeywords = Set.fromList ["CONTINUE", "JMP", "POINTER", "REFERENCE", "METHOD", "END_METHOD", "PROPERTY", "END_PROPERTY", "EXTENDS", "THIS", "SUPER", "UNION", "END_UNION", "VAR_STAT", "VAR_INST", "PERSISTENT"]
 
 -- | Does the dialect have CODESYS's extensions?
 codesys :: Policies -> Bool
