@@ -10,6 +10,7 @@ module Cmd.Common
   , describeError
   , cellText
   , valueJson
+  , engineCommand
   ) where
 
 import Control.Exception (IOException, try)
@@ -24,6 +25,8 @@ import Data.Word (Word32)
 import Numeric (readHex)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
+import Stref.Engines.Run (engName, engineByName, findTools)
+import System.Environment (getExecutablePath)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Diagnostics
 import Stref.Operands
@@ -132,3 +135,16 @@ valueJson = \case
     hexW w = if w == 0 then "0" else go w ""
     go 0 acc = acc
     go n acc = go (n `div` 16) ("0123456789ABCDEF" !! fromIntegral (n `mod` 16) : acc)
+
+-- | The command line of an engine given to @--engine@: a name stref has an
+-- adapter for (docs/engines.md) is that adapter run as this program, if the
+-- engine is installed; anything else is a shell command as it is.
+engineCommand :: String -> IO (Either Text String)
+engineCommand given = case engineByName (T.pack given) of
+  Nothing -> pure (Right given)
+  Just e -> do
+    found <- findTools e
+    self <- getExecutablePath
+    pure (fmap (const (quote self <> " adapter " <> T.unpack (engName e))) found)
+  where
+    quote p = "'" <> concatMap (\c -> if c == '\'' then "'\\''" else [c]) p <> "'"

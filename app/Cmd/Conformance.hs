@@ -20,9 +20,9 @@ import qualified Options.Applicative
 import Stref.Conformance.Corpus
 import Stref.Conformance.Report
 import Stref.Conformance.Runner
-import Stref.Engines.Run (engineByName, engName, findTools)
+import Cmd.Common (engineCommand)
+import Stref.Engines.Run (engineByName)
 import Stref.Policy (policyAssignments)
-import System.Environment (getExecutablePath)
 import System.Exit
 import System.IO (stderr)
 import Text.Read (readMaybe)
@@ -109,12 +109,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
         cores <- getNumProcessors
         when (oJobs o > 1) (setNumCapabilities (max 1 (min (oJobs o) cores)))
         -- a named engine is its adapter, run as this program
-        adapter <- case oEngine o >>= engineByName . T.pack of
-          Nothing -> pure (Right (oEngine o))
-          Just e -> do
-            found <- findTools e
-            self <- getExecutablePath
-            pure (fmap (const (Just (shellQuote self <> " adapter " <> T.unpack (engName e)))) found)
+        adapter <- maybe (pure (Right Nothing)) (fmap (fmap Just) . engineCommand) (oEngine o)
         either (\why -> usage why >>= exitWith) (const (pure ())) adapter
         let isAdapter = isJust (oEngine o >>= engineByName . T.pack)
         corpus <- loadCorpusWith (oJobs o) paths
@@ -153,7 +148,3 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
               Just file -> BL.writeFile file report >> TIO.putStr text
               Nothing -> BLC.putStr report
             pure (if any failing results || not (null (corpusErrors corpus)) then ExitFailure 1 else ExitSuccess)
-
--- | A path as one word of a shell command line.
-shellQuote :: FilePath -> String
-shellQuote p = "'" <> concatMap (\c -> if c == '\'' then "'\\''" else [c]) p <> "'"

@@ -25,6 +25,7 @@ import System.Exit
 import System.FilePath (takeFileName, (</>))
 import System.IO (hFlush, hPutStrLn, stderr, stdout)
 import Stref.Checked (ArithOp (..))
+import Cmd.Common (engineCommand)
 import Cmd.ExploreIec (ExploreIec (..), IecMode (..), exploreIec)
 import Cmd.Iec (dialectPolicies, isIecDialect)
 import Stref.Conformance.Runner (EngineSpec (..), RunOptions (..), askEngine, defaultRunOptions)
@@ -102,8 +103,12 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
   Left msg -> usage msg
   Right pol | isIecDialect pol -> do
     seed <- maybe (generate (choose (0, 999999))) pure (optSeed o)
+    engine <- case optMode o of
+      AgainstEngine cmd -> engineCommand cmd
+      _ -> pure (Right "")
+    either (\why -> usage why >>= exitWith) (const (pure ())) engine
     let mode = case optMode o of
-          AgainstEngine cmd -> Just (IecEngine cmd)
+          AgainstEngine _ -> Just (IecEngine (either (const "") id engine))
           ComparePolicy name -> Just (IecCompare (T.pack name))
           PrintPrograms -> Just IecPrint
           ComparePresets {} -> Nothing

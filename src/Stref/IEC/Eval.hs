@@ -33,7 +33,7 @@ import qualified Data.Text as T
 import Numeric (showHex)
 import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
-import Stref.IEC.Conversions (convert)
+import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binary, unary)
 import Stref.IEC.Standard (standard, timeFunction)
@@ -576,6 +576,12 @@ eval ce = case ceNode ce of
           (BDiv, Just name) -> implicitCheck (cePos ce) name [y0] >>= maybe (pure y0) (orFault (cePos ce) . convertValue pol (ceType b))
           _ -> pure y0
         orFault (cePos ce) (binary pol o x y)
+  -- NX-CONV-35: TRUNC in a context of another integer type truncates into
+  -- that type: beyond it, real-to-int's saturate/wrap half decides
+  CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [x])) | isInt e -> do
+    pol <- asks cxPol
+    v <- eval x
+    orFault (cePos ce) (truncTo pol e v)
   CConvert t a -> do
     pol <- asks cxPol
     v <- eval a
