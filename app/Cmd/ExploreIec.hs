@@ -66,8 +66,12 @@ differences pol gp a b = case (a, b) of
      in [(k, shown x, shown y) | (k, x) <- M.toList va, Just y <- [M.lookup k vb], not (same k x y)]
           ++ [("error", maybe "none" id ea, maybe "none" id eb) | ea /= eb]
   _ | a == b -> []
-    | otherwise -> [("outcome", T.pack (show a), T.pack (show b))]
+    | otherwise -> [("outcome", outcome a, outcome b)]
   where
+    outcome = \case
+      Seen _ e -> maybe "ran" ("runtime error " <>) e
+      SeenRejected m -> "rejected (" <> T.strip m <> ")"
+      SeenOther m -> m
     shown = \case
       SNumber n -> either (T.pack . show) (T.pack . show) (floatingOrInteger n :: Either Double Integer)
       SBool x -> if x then "TRUE" else "FALSE"
@@ -76,7 +80,7 @@ differences pol gp a b = case (a, b) of
 
 exploreIec :: Policies -> ExploreIec -> IO ExitCode
 exploreIec pol o = do
-  putStrLn ("seed " <> show (eiSeed o) <> " (replay with --dialect tecomat --seed " <> show (eiSeed o) <> " --count " <> show (eiCount o) <> " --size " <> show (eiSize o) <> ")")
+  putStrLn ("seed " <> show (eiSeed o) <> " (replay with --seed " <> show (eiSeed o) <> " --count " <> show (eiCount o) <> " --size " <> show (eiSize o) <> ")")
   let progs = [(s, generated (eiSize o) s) | s <- take (eiCount o) [eiSeed o ..]]
   case eiMode o of
     IecPrint -> do
@@ -122,12 +126,33 @@ exploreIec pol o = do
                 pure x
       -- the pure search needs the engine's answers first: ask for each program
       results <- mapM (\(s, gp) -> (s,gp,) <$> seenOf gp) progs
-      let bad = [(s, gp) | (s, gp, e) <- results, not (null (differences pol gp (reference pol gp) e))]
+      -- a program the engine does not compile (its language is narrower:
+      -- MATIEC wants a statement in every loop body) or declines is
+      -- counted, not a disagreement: the corpus shows such differences,
+      -- explore looks for different results
+      let declined = [s | (s, gp, e) <- results, isRejection e, not (isRejection (reference pol gp))]
+          isRejection = \case
+            SeenRejected _ -> True
+            SeenOther m -> "unsupported" `T.isPrefixOf` m
+            _ -> False
+          bad = [(s, gp) | (s, gp, e) <- results, s `notElem` declined, not (null (differences pol gp (reference pol gp) e))]
+          declinedNote = if null declined then "" else " (" <> show (length declined) <> " rejected or declined by the engine)"
       case bad of
-        [] -> putStrLn ("no disagreement in " <> show (length progs) <> " programs") >> pure ExitSuccess
+        [] -> putStrLn ("no disagreement in " <> show (length progs) <> " programs" <> declinedNote) >> pure ExitSuccess
         ((s, gp) : _) -> do
           putStrLn ("program " <> show s <> ": the engine disagrees with the reference; shrinking ...")
-          small <- shrinkIO (eiShrinkBudget o) (\c -> (\e -> not (null (differences pol c (reference pol c) e))) <$> seenOf c) gp
+          -- a shrink step keeps the kind of disagreement: values that differ
+          -- must not turn into a program one side rejects
+          first <- seenOf gp
+          let kind r e = case (r, e) of
+                (Seen {}, Seen {}) -> "values"
+                _ -> T.pack (show (outcomeKind r, outcomeKind e))
+              outcomeKind = \case
+                Seen {} -> 0 :: Int
+                SeenRejected _ -> 1
+                SeenOther _ -> 2
+              wanted = kind (reference pol gp) first
+          small <- shrinkIO (eiShrinkBudget o) (\c -> (\e -> kind (reference pol c) e == wanted && not (null (differences pol c (reference pol c) e))) <$> seenOf c) gp
           TIO.putStr (renderCompact small)
           e <- seenOf small
           forM_ (differences pol small (reference pol small) e) $ \(k, x, y) ->
