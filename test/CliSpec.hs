@@ -19,7 +19,8 @@ import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import Control.Exception (evaluate)
 import System.IO (hClose, hGetContents, hGetLine)
-import System.Process (CreateProcess (..), StdStream (..), createProcess, proc, readProcessWithExitCode, waitForProcess)
+import System.Environment (getEnvironment)
+import System.Process (CreateProcess (..), StdStream (..), createProcess, proc, readCreateProcessWithExitCode, readProcessWithExitCode, waitForProcess)
 import Test.Hspec
 
 fixture :: FilePath -> FilePath
@@ -206,6 +207,21 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 141
       errText `shouldBe` ""
 
+  describe "an engine that is not installed" $ do
+    it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do
+      bin <- strefBinary
+      env <- getEnvironment
+      let without = [(k, v) | (k, v) <- env, k `notElem` ["STREF_MATIEC", "PATH"]] ++ [("STREF_MATIEC", "/nonexistent/matiec"), ("PATH", "/nonexistent")]
+          runWith args = readCreateProcessWithExitCode ((proc bin args) {env = Just without}) ""
+      (code, _, err) <- runWith ["conformance", "test" </> "engines" </> "matiec" </> "values.st", "--engine", "matiec"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` isInfixOf "/nonexistent/matiec"
+      (code2, _, err2) <- runWith ["adapter", "matiec", "--check"]
+      code2 `shouldBe` ExitFailure 2
+      err2 `shouldSatisfy` isInfixOf "STREF_MATIEC"
+      (code3, _, err3) <- runWith ["adapter", "ironplc"]
+      code3 `shouldBe` ExitFailure 2
+      err3 `shouldSatisfy` isInfixOf "no adapter for 'ironplc'"
   describe "the last line of defence (exit 3)" $ do
     -- a sum of 20,000 ones is a left spine 20,000 levels deep: accepted,
     -- and its value is 20000 (no overflow on INT); with a stack of 100 KB
