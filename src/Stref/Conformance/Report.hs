@@ -9,6 +9,7 @@ module Stref.Conformance.Report
   , groupTotals
   , textReport
   , jsonReport
+  , totalsJson
   , junitReport
   ) where
 
