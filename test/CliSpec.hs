@@ -211,7 +211,7 @@ spec = describe "the stref command line" $ do
     it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do
       bin <- strefBinary
       env <- getEnvironment
-      let without = [(k, v) | (k, v) <- env, k `notElem` ["STREF_MATIEC", "PATH"]] ++ [("STREF_MATIEC", "/nonexistent/matiec"), ("PATH", "/nonexistent")]
+      let without = [(k, v) | (k, v) <- env, k `notElem` ["STREF_MATIEC", "STREF_IRONPLC", "PATH"]] ++ [("STREF_MATIEC", "/nonexistent/matiec"), ("PATH", "/nonexistent")]
           runWith args = readCreateProcessWithExitCode ((proc bin args) {env = Just without}) ""
       (code, _, err) <- runWith ["conformance", "test" </> "engines" </> "matiec" </> "values.st", "--engine", "matiec"]
       code `shouldBe` ExitFailure 2
@@ -219,9 +219,12 @@ spec = describe "the stref command line" $ do
       (code2, _, err2) <- runWith ["adapter", "matiec", "--check"]
       code2 `shouldBe` ExitFailure 2
       err2 `shouldSatisfy` isInfixOf "STREF_MATIEC"
-      (code3, _, err3) <- runWith ["adapter", "ironplc"]
+      (code3, _, err3) <- runWith ["adapter", "no-such-engine"]
       code3 `shouldBe` ExitFailure 2
-      err3 `shouldSatisfy` isInfixOf "no adapter for 'ironplc'"
+      err3 `shouldSatisfy` isInfixOf "no adapter for 'no-such-engine'"
+      (code4, _, err4) <- runWith ["adapter", "ironplc", "--check"]
+      code4 `shouldBe` ExitFailure 2
+      err4 `shouldSatisfy` isInfixOf "STREF_IRONPLC"
   describe "the last line of defence (exit 3)" $ do
     -- a sum of 20,000 ones is a left spine 20,000 levels deep: accepted,
     -- and its value is 20000 (no overflow on INT); with a stack of 100 KB

@@ -36,7 +36,7 @@ run name checkOnly = case engineByName (T.pack name) of
     case found of
       Left why -> TIO.hPutStrLn stderr ("stref adapter: " <> why) >> pure (ExitFailure 2)
       Right tools
-        | checkOnly -> TIO.putStrLn (engTitle e <> ": " <> T.pack (tCompiler tools)) >> pure ExitSuccess
+        | checkOnly -> TIO.putStrLn (engTitle e <> ": " <> toolsText tools) >> pure ExitSuccess
         | otherwise -> do
             input <- BL.getContents
             case decodeRequest input of

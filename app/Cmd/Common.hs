@@ -11,6 +11,7 @@ module Cmd.Common
   , cellText
   , valueJson
   , engineCommand
+  , adapterCommand
   ) where
 
 import Control.Exception (IOException, try)
@@ -25,7 +26,7 @@ import Data.Word (Word32)
 import Numeric (readHex)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
-import Stref.Engines.Run (engName, engineByName, findTools)
+import Stref.Engines.Run (Engine, engName, engineByName, findTools)
 import System.Environment (getExecutablePath)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Diagnostics
@@ -144,7 +145,15 @@ engineCommand given = case engineByName (T.pack given) of
   Nothing -> pure (Right given)
   Just e -> do
     found <- findTools e
-    self <- getExecutablePath
-    pure (fmap (const (quote self <> " adapter " <> T.unpack (engName e))) found)
+    case found of
+      Left why -> pure (Left why)
+      Right _ -> Right <$> adapterCommand e
+
+-- | The shell command that runs an engine's adapter: this program's
+-- @adapter@ command.
+adapterCommand :: Engine -> IO String
+adapterCommand e = do
+  self <- getExecutablePath
+  pure (quote self <> " adapter " <> T.unpack (engName e))
   where
     quote p = "'" <> concatMap (\c -> if c == '\'' then "'\\''" else [c]) p <> "'"

@@ -22,8 +22,8 @@ import Stref.Conformance.Report (summaryLine, totals)
 import Stref.Conformance.Rules (Rule (..))
 import Stref.Conformance.Runner
 import Stref.Engines.Run
+import Cmd.Common (adapterCommand)
 import System.Directory (createDirectoryIfMissing, doesDirectoryExist)
-import System.Environment (getExecutablePath)
 import System.Exit
 import System.FilePath ((</>))
 import System.IO (stderr)
@@ -70,7 +70,6 @@ run o
           dialects = if null (oDialects o) then ["tecomat", "nexto"] else oDialects o
       cores <- getNumProcessors
       setNumCapabilities (max 1 (min (oJobs o) cores))
-      self <- getExecutablePath
       found <- forM wanted $ \e -> do
         tools <- findTools e
         case tools of
@@ -86,11 +85,12 @@ run o
           titles = M.fromList [(ruleId r, ruleTitle r) | (_, c) <- loaded, rs <- M.elems (corpusRules c), r <- rs]
       runs <- fmap concat . forM installed $ \(e, t) -> do
         version <- engineVersion t
+        adapter <- adapterCommand e
         let label = [T.drop 1 rest | l <- oLabels o, let (n, rest) = T.breakOn "=" (T.pack l), n == engName e]
         forM loaded $ \(d, corpus) -> do
           let options =
                 defaultRunOptions
-                  { roEngine = External (shellQuote self <> " adapter " <> T.unpack (engName e))
+                  { roEngine = External adapter
                   , roJobs = oJobs o
                   , roTimeout = 60
                   }
@@ -110,16 +110,6 @@ run o
       TIO.writeFile (oOut o </> "index.html") (matrixPage v)
       TIO.hPutStrLn stderr ("stref matrix: wrote " <> T.pack (oOut o </> "index.html"))
 
--- | What iec2c says of its version.
-engineVersion :: Tools -> IO Text
-engineVersion t = do
-  r <- try (readProcessWithExitCode (tCompiler t) ["-v"] "")
-  pure $ case r of
-    Left (_ :: SomeException) -> "version unknown"
-    Right (_, out, err) -> case filter (not . T.null) (map T.strip (T.lines (T.pack (out <> err)))) of
-      l : _ -> l
-      [] -> "version unknown"
-
 gitCommit :: IO Text
 gitCommit = do
   r <- try (readProcessWithExitCode "git" ["rev-parse", "--short", "HEAD"] "")
@@ -127,6 +117,3 @@ gitCommit = do
     Right (ExitSuccess, out, _) -> T.strip (T.pack out)
     Right _ -> "unknown"
     Left (_ :: SomeException) -> "unknown"
-
-shellQuote :: FilePath -> String
-shellQuote p = "'" <> concatMap (\c -> if c == '\'' then "'\\''" else [c]) p <> "'"

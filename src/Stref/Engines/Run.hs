@@ -1,14 +1,16 @@
 -- | Running a real engine installed by the user, through its adapter
 -- (docs/engines.md): find its tools, run them in a scratch directory,
 -- answer the stref-engine/1 request. The meaning of each step is in the
--- adapter's pure module ("Stref.Engines.Matiec"); here are only files and
--- processes.
+-- adapter's pure module ("Stref.Engines.Matiec", "Stref.Engines.Ironplc");
+-- here are only files and processes.
 module Stref.Engines.Run
   ( Engine (..)
   , engines
   , engineByName
-  , Tools (..)
+  , Tools
   , findTools
+  , toolsText
+  , engineVersion
   , answerWith
   ) where
 
@@ -19,6 +21,7 @@ import qualified Data.Text as T
 import qualified Data.Text.IO as TIO
 import Stref.Conformance.Protocol
 import Stref.Engine (requestPolicies)
+import qualified Stref.Engines.Ironplc as Ironplc
 import qualified Stref.Engines.Matiec as Matiec
 import Stref.Policy (Model (..), Policies (..))
 import System.Directory
@@ -26,7 +29,7 @@ import System.Environment (lookupEnv)
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import System.IO (hClose, hPutStrLn, openTempFile, stderr)
-import System.Process (proc, readCreateProcessWithExitCode)
+import System.Process (proc, readCreateProcessWithExitCode, readProcessWithExitCode)
 import System.Timeout (timeout)
 
 -- | An engine stref has an adapter for.
@@ -35,12 +38,17 @@ data Engine = Engine
   , engTitle :: Text
   , engVariable :: String -- ^ the environment variable that locates it
   , engOnPath :: Maybe String -- ^ the program looked for on PATH when the variable is not set
+  , engAdapter :: Adapter
   }
+
+-- | Which adapter drives it.
+data Adapter = MatiecAdapter | IronplcAdapter
 
 engines :: [Engine]
 engines =
-  [ Engine "matiec" "MATIEC (iec2c of Beremiz)" "STREF_MATIEC" (Just "iec2c")
-  , Engine "openplc" "OpenPLC's fork of MATIEC" "STREF_OPENPLC" Nothing
+  [ Engine "matiec" "MATIEC (iec2c of Beremiz)" "STREF_MATIEC" (Just "iec2c") MatiecAdapter
+  , Engine "openplc" "OpenPLC's fork of MATIEC" "STREF_OPENPLC" Nothing MatiecAdapter
+  , Engine "ironplc" "IronPLC (ironplcc and ironplcvm)" "STREF_IRONPLC" (Just "ironplcc") IronplcAdapter
   ]
 
 engineByName :: Text -> Maybe Engine
@@ -48,46 +56,93 @@ engineByName n = case filter ((== T.toLower n) . engName) engines of
   e : _ -> Just e
   [] -> Nothing
 
--- | Where the engine's tools are.
-data Tools = Tools
+-- | Where an engine's tools are.
+data Tools = MatiecTools Matiec | IronplcTools Ironplc
+
+data Matiec = Matiec
   { tCompiler :: FilePath -- ^ iec2c
   , tLibrary :: FilePath -- ^ its lib directory (the ST declarations, and lib/C)
   , tCc :: FilePath -- ^ the C compiler
   , tSeconds :: Int -- ^ time limit of one run of the compiled program
   }
 
--- | The engine's tools: the variable names a directory holding @iec2c@
--- and @lib/@ (or @iec2c@ itself); without it, @iec2c@ on PATH with the
--- @lib@ beside it. @STREF_MATIEC_LIB@ overrides the library, @STREF_CC@
--- the C compiler (default @cc@). Left: why the engine is not there.
+data Ironplc = Ironplc
+  { iCompiler :: FilePath -- ^ ironplcc
+  , iVm :: FilePath -- ^ ironplcvm
+  }
+
+-- | The tools found, as @stref adapter --check@ shows them.
+toolsText :: Tools -> Text
+toolsText = \case
+  MatiecTools m -> T.pack (tCompiler m)
+  IronplcTools i -> T.pack (iCompiler i) <> ", " <> T.pack (iVm i)
+
+-- | The engine's tools, or why it is not there. The variable names the
+-- directory that holds the tools (or the compiler itself); without it, the
+-- compiler on PATH.
 findTools :: Engine -> IO (Either Text Tools)
 findTools e = do
   var <- lookupEnv (engVariable e)
   compiler <- case var of
     Just v | not (null v) -> do
       isDir <- doesDirectoryExist v
-      pure (Just (if isDir then v </> "iec2c" else v))
+      pure (Just (if isDir then v </> compilerName else v))
     _ -> maybe (pure Nothing) findExecutable (engOnPath e)
   case compiler of
-    Nothing -> pure (Left (engTitle e <> " is not installed: set " <> T.pack (engVariable e) <> " to the directory that holds iec2c and its lib/" <> maybe "" (\p -> ", or put " <> T.pack p <> " on PATH") (engOnPath e)))
+    Nothing -> pure (Left (engTitle e <> " is not installed: set " <> T.pack (engVariable e) <> " to the directory that holds " <> T.pack compilerName <> extra <> maybe "" (\p -> ", or put " <> T.pack p <> " on PATH") (engOnPath e)))
     Just c -> do
       exists <- doesFileExist c
-      libVar <- lookupEnv "STREF_MATIEC_LIB"
-      let lib = maybe (takeDir c </> "lib") id libVar
-      libOk <- doesFileExist (lib </> "ieclib.txt")
-      ccVar <- lookupEnv "STREF_CC"
-      cc <- maybe (maybe "cc" id <$> findExecutable "cc") pure ccVar
-      pure $
-        if not exists
-          then Left (T.pack c <> " does not exist (" <> T.pack (engVariable e) <> ")")
-          else
-            if not libOk
-              then Left ("no ieclib.txt in " <> T.pack lib <> ": set STREF_MATIEC_LIB to iec2c's lib directory")
-              else Right (Tools c lib cc 10)
+      if not exists
+        then pure (Left (T.pack c <> " does not exist (" <> T.pack (engVariable e) <> ")"))
+        else case engAdapter e of
+          MatiecAdapter -> matiecTools c
+          IronplcAdapter -> ironplcTools c
   where
-    takeDir p = case reverse (dropWhile (/= '/') (reverse p)) of
-      "" -> "."
-      d -> d
+    (compilerName, extra) = case engAdapter e of
+      MatiecAdapter -> ("iec2c", " and its lib/")
+      IronplcAdapter -> ("ironplcc", " and ironplcvm")
+
+-- | iec2c with the @lib@ beside it; @STREF_MATIEC_LIB@ overrides the
+-- library, @STREF_CC@ the C compiler (default @cc@).
+matiecTools :: FilePath -> IO (Either Text Tools)
+matiecTools c = do
+  libVar <- lookupEnv "STREF_MATIEC_LIB"
+  let lib = maybe (takeDir c </> "lib") id libVar
+  libOk <- doesFileExist (lib </> "ieclib.txt")
+  ccVar <- lookupEnv "STREF_CC"
+  cc <- maybe (maybe "cc" id <$> findExecutable "cc") pure ccVar
+  pure $
+    if not libOk
+      then Left ("no ieclib.txt in " <> T.pack lib <> ": set STREF_MATIEC_LIB to iec2c's lib directory")
+      else Right (MatiecTools (Matiec c lib cc 10))
+
+-- | ironplcc with ironplcvm beside it, or on PATH.
+ironplcTools :: FilePath -> IO (Either Text Tools)
+ironplcTools c = do
+  let beside = takeDir c </> "ironplcvm"
+  here <- doesFileExist beside
+  vm <- if here then pure (Just beside) else findExecutable "ironplcvm"
+  pure $ case vm of
+    Just v -> Right (IronplcTools (Ironplc c v))
+    Nothing -> Left ("no ironplcvm beside " <> T.pack c <> " nor on PATH: IronPLC's VM runs the compiled programs")
+
+takeDir :: FilePath -> FilePath
+takeDir p = case reverse (dropWhile (/= '/') (reverse p)) of
+  "" -> "."
+  d -> d
+
+-- | What the engine's compiler says of its version.
+engineVersion :: Tools -> IO Text
+engineVersion t = do
+  let (exe, args) = case t of
+        MatiecTools m -> (tCompiler m, ["-v"])
+        IronplcTools i -> (iCompiler i, ["version"])
+  r <- try (readProcessWithExitCode exe args "")
+  pure $ case r of
+    Left (_ :: SomeException) -> "version unknown"
+    Right (_, out, err) -> case filter (not . T.null) (map T.strip (T.lines (T.pack (out <> err)))) of
+      l : _ -> l
+      [] -> "version unknown"
 
 -- | The engine's answer to a request; Left: the adapter failed (the runner
 -- records @engine-error@).
@@ -95,17 +150,26 @@ answerWith :: Tools -> Request -> IO (Either Text Answer)
 answerWith tools rq = case requestPolicies [] rq of
   Left why -> pure (Right (AnswerUnsupported why))
   Right pol
-    | pModel pol /= IecController -> pure (Right (AnswerUnsupported "MATIEC runs the IEC 61131-3 model, not the MasterTool XE controller"))
-    | otherwise -> case Matiec.plan pol rq of
-        Left why -> pure (Right (AnswerUnsupported why))
-        Right pl -> withScratch (\dir -> fmap (scrubAnswer dir) <$> run pl dir)
+    | pModel pol /= IecController -> pure (Right (AnswerUnsupported "the engine runs the IEC 61131-3 model, not the MasterTool XE controller"))
+    | otherwise -> case tools of
+        MatiecTools m -> matiecAnswer m pol rq
+        IronplcTools i -> ironplcAnswer i pol rq
+
+-- | Messages name files by their place in the scratch directory and the
+-- engine's library, not by this machine's paths.
+scrubAnswer :: [(FilePath, Text)] -> Answer -> Answer
+scrubAnswer places = \case
+  AnswerRejected l k m -> AnswerRejected l k (T.take 600 (foldr (\(p, r) -> T.replace (T.pack p) r) m places))
+  a -> a
+
+------------------------------------------------------------------------------
+-- MATIEC
+
+matiecAnswer :: Matiec -> Policies -> Request -> IO (Either Text Answer)
+matiecAnswer tools pol rq = case Matiec.plan pol rq of
+  Left why -> pure (Right (AnswerUnsupported why))
+  Right pl -> withScratch (\dir -> fmap (scrubAnswer [(tLibrary tools, "<lib>"), (dir, "<scratch>")]) <$> run pl dir)
   where
-    -- messages name files by their place in the scratch directory and the
-    -- engine's library, not by this machine's paths
-    scrub dir = T.replace (T.pack (tLibrary tools)) "<lib>" . T.replace (T.pack dir) "<scratch>"
-    scrubAnswer dir = \case
-      AnswerRejected l k m -> AnswerRejected l k (T.take 600 (scrub dir m))
-      a -> a
     run pl dir = do
       let source = dir </> T.unpack Matiec.caseFile
       TIO.writeFile source (Matiec.planSource pl)
@@ -148,6 +212,30 @@ answerWith tools rq = case requestPolicies [] rq of
                       pure . Right . Matiec.runAnswer pl $ case out of
                         Nothing -> Matiec.TimedOut
                         Just (_, o, _) -> Matiec.Finished (T.pack o)
+
+------------------------------------------------------------------------------
+-- IronPLC
+
+ironplcAnswer :: Ironplc -> Policies -> Request -> IO (Either Text Answer)
+ironplcAnswer tools pol rq = withScratch $ \dir -> do
+  let pl = Ironplc.plan pol rq
+      source = dir </> T.unpack Ironplc.caseFile
+      bytecode = dir </> "case.iplc"
+  TIO.writeFile source (Ironplc.planSource pl)
+  compiled <- timeout (compileSeconds * 1000000) (readCreateProcessWithExitCode (proc (iCompiler tools) (["compile"] ++ Ironplc.planFlags pl ++ [source, "-o", bytecode])) "")
+  fmap (scrubAnswer [(dir, "<scratch>")]) <$> case compiled of
+    Nothing -> pure (Right (AnswerRejected Nothing Nothing ("ironplcc ran for more than " <> T.pack (show compileSeconds) <> " s on this program without finishing")))
+    Just (ExitFailure n, _, err) -> do
+      writeFile (dir </> "ironplcc.err") err
+      pure (Right (Ironplc.compileAnswer n (T.pack err)))
+    Just (ExitSuccess, _, _) -> case Ironplc.planRun pl of
+      Left why -> pure (Right (AnswerUnsupported why))
+      Right r -> do
+        out <- timeout (Ironplc.runSeconds r * 1000000) (readCreateProcessWithExitCode (proc (iVm tools) ["run", bytecode, "--scans", show (Ironplc.runScans r), "--dump-vars"]) "")
+        mapM_ (\(_, o, e) -> writeFile (dir </> "vm.out") o >> writeFile (dir </> "vm.err") e) out
+        pure . Ironplc.runAnswer pl $ case out of
+          Nothing -> Ironplc.TimedOut
+          Just (rc, o, e) -> Ironplc.Finished (case rc of ExitSuccess -> 0; ExitFailure n -> n) (T.pack o) (T.pack e)
 
 -- | How long iec2c may take on one program (it can loop on some input).
 compileSeconds :: Int
