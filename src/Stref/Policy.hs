@@ -48,6 +48,7 @@ module Stref.Policy
   , presets
   , matiec
   , openplc
+  , ironplc
   , lookupPreset
   , PolicyInfo (..)
   , policyTable
@@ -427,10 +428,22 @@ matiec =
 openplc :: Policies
 openplc = matiec {pFTrigInitial = FTrigTrue}
 
+-- | IronPLC (ironplcc and ironplcvm 0.239.0): intermediate results in 32
+-- bits, MOD by 0 stops the VM like a division, REAL to integer truncates,
+-- subranges unchecked (docs/engines.md).
+ironplc :: Policies
+ironplc =
+  tecomat
+    { pArithWidth = Promote32 -- (a + b) / 2 of two INT 20000 is 20000
+    , pModZero = ModZeroError -- trap V4001, as for /
+    , pRealToInt = TruncateSaturate -- REAL_TO_INT(1.5) is 1, (-2.7) is -2
+    , pSubrange = SubrangeUnchecked -- an INT (0..10) takes 11 without an error
+    }
+
 -- | Named presets: each dialect is an entry here, not a fork of the code;
 -- so is each real engine's behaviour (docs/engines.md).
 presets :: [(Text, Policies)]
-presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto), ("matiec", matiec), ("openplc", openplc)]
+presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto), ("matiec", matiec), ("openplc", openplc), ("ironplc", ironplc)]
 
 lookupPreset :: Text -> Maybe Policies
 lookupPreset n = lookup n presets

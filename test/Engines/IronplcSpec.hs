@@ -19,7 +19,8 @@ import qualified Stref.Engines.Ironplc as Ironplc
 import Stref.Engines.Run (answerWith, engineByName, findTools)
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.IEC.Values (Value (..))
-import Stref.Policy (Policies, nexto, tecomat)
+import Stref.Policy (Policies, ironplc, nexto, tecomat)
+import Support.Iec (runUnit)
 import System.Directory (doesFileExist)
 import System.FilePath ((<.>), (</>))
 import Test.Hspec
@@ -151,6 +152,14 @@ spec = describe "the IronPLC adapter" $ do
     it "an unsupported plan answers unsupported whatever the VM printed" $ do
       rq <- requestFor "(*---\ndescription: inline\nrules: [TC-TYPE-1]\nexpect:\n  vars: {MAIN.txt: \"'a'\"}\n---*)\nPROGRAM MAIN\nVAR txt : STRING; END_VAR\ntxt := 'a';\nEND_PROGRAM\n"
       fmap unsupportedWhy (Ironplc.runAnswer (Ironplc.plan tecomat rq) (Ironplc.Finished 0 "s: 0\n" "")) `shouldSatisfy` either (const False) (T.isInfixOf "STRING")
+  describe "the engine preset" $
+    it "ironplc computes INT arithmetic in 32 bits, truncates REAL to INT, and leaves a subrange unchecked, where tecomat does not" $ do
+      let src = "PROGRAM MAIN\nVAR a, b, mean, cut : INT; lvl : INT (0..10); x : REAL := 1.5; END_VAR\na := 20000; b := 20000; mean := (a + b) / 2; cut := REAL_TO_INT(x); lvl := a - 19989;\nEND_PROGRAM\n"
+      runUnit ironplc src 1 "MAIN.mean" `shouldBe` Right (VInt INT 20000)
+      runUnit tecomat src 1 "MAIN.mean" `shouldBe` Right (VInt INT (-12768))
+      runUnit ironplc src 1 "MAIN.cut" `shouldBe` Right (VInt INT 1)
+      runUnit ironplc src 1 "MAIN.lvl" `shouldBe` Right (VInt INT 11)
+      runUnit tecomat src 1 "MAIN.lvl" `shouldBe` Right (VInt INT 0) -- the store is a subrange error
   describe "live, with IronPLC installed (STREF_IRONPLC or ironplcc on PATH)" $
     forM_ cases $ \name ->
       it (name <> ": the engine answers as recorded") $ do
