@@ -123,6 +123,27 @@ spec = describe "the nexto dialect" $ do
       fmap fst (rejectKind nexto "PROGRAM MAIN\nVAR txt : STRING; END_VAR\ntxt := CONCAT('a', 'b', 'c');\nEND_PROGRAM\n") `shouldBe` Just "too-many-arguments"
       runMain nexto {pStandardLibrary = LibraryIec} "VAR txt : STRING; END_VAR txt := CONCAT('a', 'b', 'c');" 1 "txt" `shouldBe` Right (VString "abc")
       runMain nexto "VAR txt : STRING; END_VAR txt := CONCAT(STR1 := 'a', STR2 := 'b');" 1 "txt" `shouldBe` Right (VString "ab")
+  describe "located BOOLs, BITADR, pack_mode" $ do
+    it "a BOOL at a byte or word address is that whole first byte, 1 or 0 (NX-TYPE-18); the IEC core wants a bit address" $ do
+      let body = "VAR lamp AT %QW4 : BOOL; raw AT %QB4 : BYTE; next AT %QB5 : BYTE; END_VAR raw := 16#F0; next := 16#AA; lamp := TRUE;"
+      runMain nexto body 1 "raw" `shouldBe` Right (VInt BYTE 1)
+      runMain nexto body 1 "next" `shouldBe` Right (VInt BYTE 0xAA)
+      runMain nexto (body <> " raw := 16#10;") 1 "lamp" `shouldBe` Right (VBool True)
+      rejectKind tecomat "PROGRAM MAIN\nVAR lamp AT %QB4 : BOOL; END_VAR\nlamp := TRUE;\nEND_PROGRAM\n" `shouldBe` Just ("type-mismatch", 2)
+    it "BITADR gives an input's bit offset with the segment's mark: %IX2.3 is 16#80000013, %IB1 16#80000008 (NX-OP-69)" $ do
+      runMain nexto "VAR b AT %IX2.3 : BOOL; w AT %IB1 : BYTE; o1, o2 : DWORD; END_VAR o1 := BITADR(b); o2 := BITADR(w);" 1 "o1" `shouldBe` Right (VInt DWORD 0x80000013)
+      runMain nexto "VAR b AT %IX2.3 : BOOL; w AT %IB1 : BYTE; o1, o2 : DWORD; END_VAR o1 := BITADR(b); o2 := BITADR(w);" 1 "o2" `shouldBe` Right (VInt DWORD 0x80000008)
+    it "BITADR of an output or of a variable without an address is rejected: the manual gives no value for them" $ do
+      rejectKind nexto "PROGRAM MAIN\nVAR q AT %QX0.1 : BOOL; o : DWORD; END_VAR\no := BITADR(q);\nEND_PROGRAM\n" `shouldBe` Just ("not-a-variable", 3)
+      rejectKind nexto "PROGRAM MAIN\nVAR q : BOOL; o : DWORD; END_VAR\no := BITADR(q);\nEND_PROGRAM\n" `shouldBe` Just ("not-a-variable", 3)
+    it "pack_mode caps each member's alignment and the structure's (NX-PRAGMA-11): a DINT after a BOOL lies at 1, 2 or 4" $ do
+      let unit pack = "{attribute 'pack_mode' := '" <> pack <> "'}\nTYPE Rec : STRUCT flag : BOOL; big : DINT; END_STRUCT END_TYPE\nPROGRAM MAIN\nVAR r1 : Rec; off : DWORD; size : UDINT; END_VAR\noff := ADR(r1.big) - ADR(r1.flag); size := SIZEOF(r1);\nEND_PROGRAM\n"
+          natural = "TYPE Rec : STRUCT flag : BOOL; big : DINT; END_STRUCT END_TYPE\nPROGRAM MAIN\nVAR r1 : Rec; off : DWORD; size : UDINT; END_VAR\noff := ADR(r1.big) - ADR(r1.flag); size := SIZEOF(r1);\nEND_PROGRAM\n"
+      [runUnit nexto (unit p) 1 "MAIN.off" | p <- ["0", "1", "2", "4", "8"]] `shouldBe` map (Right . VInt DWORD) [1, 1, 2, 4, 4]
+      [runUnit nexto (unit p) 1 "MAIN.size" | p <- ["1", "2"]] `shouldBe` map (Right . VInt UDINT) [5, 6]
+      runUnit nexto natural 1 "MAIN.off" `shouldBe` Right (VInt DWORD 4)
+    it "a pack_mode other than 0, 1, 2, 4, 8 is rejected" $
+      rejectKind nexto "{attribute 'pack_mode' := '3'}\nTYPE Rec : STRUCT flag : BOOL; END_STRUCT END_TYPE\nPROGRAM MAIN\nVAR r1 : Rec; END_VAR\nr1.flag := TRUE;\nEND_PROGRAM\n" `shouldBe` Just ("value-out-of-limits", 2)
   describe "UNION (NX-TYPE-72, NX-TYPE-73)" $ do
     let unionSrc decls body = "TYPE U :\nUNION\n" <> decls <> "\nEND_UNION\nEND_TYPE\nPROGRAM MAIN\nVAR u : U; a : ARRAY [1..2] OF U; x : DWORD; b : BYTE; rv : REAL; txt2 : STRING; p : POINTER TO BYTE; END_VAR\n" <> body <> "\nEND_PROGRAM\n"
     it "a REAL member reads as its IEEE 754 pattern in a DWORD member" $ do

@@ -47,6 +47,7 @@ data ProgramChoice
 data Env = Env
   { envPol :: Policies
   , envTypes :: M.Map Text TypeDecl
+  , envPackModes :: M.Map Text Integer -- ^ NX-PRAGMA-11
   , envPous :: M.Map Text Pou -- ^ user POUs
   , envStd :: M.Map Text PouDef -- ^ standard FBs
   , envVarsOf :: M.Map Text [VarInfo] -- ^ the resolved variables of every user POU (lazy)
@@ -126,11 +127,17 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   let topNames = [(tdPos t, tdName t) | t <- typeDecls] ++ [(pouPos p, pouName p) | p <- pous]
   forM_ topNames $ \(p, n) -> when (reservedName pol n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
   checkDuplicates topNames
+  -- NX-PRAGMA-11: pack_mode takes 0, 1, 2, 4 or 8
+  packModes <- fmap M.fromList . forM [(t, v) | t <- typeDecls, Just v <- [attributeValue "pack_mode" (tdAttributes t)]] $ \(t, v) ->
+    case readMaybeInt v of
+      Just n | n `elem` [0, 1, 2, 4, 8] -> pure (key (tdName t), n)
+      _ -> throwError (VerificationError "value-out-of-limits" (tdPos t) ("pack_mode is 0, 1, 2, 4 or 8, not '" <> v <> "' (NX-PRAGMA-11)"))
   checkRecursion True pous globalBlocks -- before instances are built from their declarations
   let envBase =
         Env
           { envPol = pol
           , envTypes = M.fromList [(key (tdName t), t) | t <- libraryTypes pol ++ typeDecls]
+          , envPackModes = packModes
           , envPous = M.fromList [(key (pouName p), p) | p <- pous]
           , envStd = std
           , envVarsOf = M.empty
@@ -234,6 +241,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
       , prGlobalInits = globalInits
       , prGlobalInitArgs = globalInitArgs
+      , prPackModes = packModes
       , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where
@@ -476,9 +484,11 @@ declVars kind sec constant retention d = do
   case ty of
     TFB _ | sec == SecInOut -> failC "section-not-allowed" (vdPos d) "a function block instance cannot be passed through VAR_IN_OUT (TC-POU-31)"
     _ -> pure ()
-  -- TC-ADDR-4, TC-ADDR-5: a BOOL lies at a bit address
+  -- TC-ADDR-4, TC-ADDR-5: a BOOL lies at a bit address; under CODESYS also
+  -- at a byte, word or double word address, of which it fills the first
+  -- byte (NX-TYPE-18)
   case (vdAt d, ty) of
-    (Just l, TElem BOOL) | locationType l /= TElem BOOL -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
+    (Just l, TElem BOOL) | locationType l /= TElem BOOL, not (pExtensions pol == ExtensionsCodesys && byteSized l) -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
     _ -> pure ()
   base <- resolveDefault (vdType d)
   -- NX-VAR-24: under CODESYS an initial value may use variables and calls;
@@ -1249,8 +1259,9 @@ pointerStep :: Type -> C Integer
 pointerStep t = do
   varsOf <- asks envVarsOf
   std <- asks envStd
+  packs <- asks envPackModes
   let membersOf n = [(viKey v, viType v) | v <- maybe (M.findWithDefault [] (key n) varsOf) pdVars (M.lookup (key n) std), isNothing (viAt v)]
-  pure (sizeInBytes (Layout membersOf) t)
+  pure (sizeInBytes (Layout membersOf (`M.lookup` packs)) t)
 
 fbVars :: Text -> C [VarInfo]
 fbVars fb = do
@@ -1669,6 +1680,14 @@ typeHint depth e
     firstJust [] = pure Nothing
     firstJust (x : xs) = typeHint (depth - 1) x >>= maybe (firstJust xs) (pure . Just)
 
+-- | The offset of an address in bits from its segment's start: byte × 8
+-- plus the bit (NX-OP-69).
+bitOffset :: Location -> Integer
+bitOffset l = case locAddress l of
+  [b, bit] -> b * 8 + bit
+  b : _ -> b * 8
+  [] -> 0
+
 -- | Where the code of the POUs lies (Stref.IEC.Memory lays out the data
 -- below it): the address ADR gives a POU.
 codeArea :: Integer
@@ -1695,6 +1714,19 @@ callExpr expected p f args
               (ref, t, _) <- checkRef x
               fixed p (TPointer t) (CAddressOf ref)
         _ -> failC "too-many-arguments" p "ADR takes one variable"
+  | key f == "BITADR" = do
+      pol <- asks envPol
+      unless (pExtensions pol == ExtensionsCodesys) (failC "undeclared-function" p "BITADR is a CODESYS operator (policy extensions = codesys)")
+      found <- case args of
+        [ArgPositional (EVar vp n)] -> lookupName vp n
+        [_] -> pure Nothing
+        _ -> failC "too-many-arguments" p "BITADR takes one variable"
+      case found of
+        -- NX-OP-69: the bit's offset in its segment, in a DWORD whose top
+        -- bit marks the inputs (%IX2.3 is 16#80000013). The manual gives no
+        -- other segment's mark, so only an input is accepted.
+        Just (CLocated l _, _, _) | locArea l == 'I' -> fixed p (TElem DWORD) (CConst (VInt DWORD (0x80000000 + bitOffset l)))
+        _ -> failC "not-a-variable" p "BITADR takes a variable located at an input address (%I...): the manual gives the value only for the inputs' segment (NX-OP-69)"
   | key f == "SIZEOF" = case args of
       -- TC-STR-12: the declared size in bytes, an integer of the context's type
       [ArgPositional x] -> do

@@ -45,6 +45,7 @@ data Program = Program
   , prGlobalInits :: [(Text, Type, CExpr)] -- ^ CODESYS: the globals' initial values that are not constants, in the order the lists initialise (NX-VAR-26, NX-VAR-27)
   , prGlobalInitArgs :: Map Text [(Text, CExpr)] -- ^ CODESYS: the FB_Init inputs of global instances (NX-POU-35)
   , prChecks :: [Text] -- ^ the implicit check functions the program declares, by key (NX-ERR-1)
+  , prPackModes :: Map Text Integer -- ^ CODESYS: the pack_mode of each structure type that states one, by key (NX-PRAGMA-11)
   }
 
 -- | A declared variable.

@@ -37,7 +37,7 @@ import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binary, unary)
 import Stref.IEC.Standard (standard, timeFunction)
-import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..))
+import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -847,7 +847,7 @@ linearIndex bs is = fromInteger (foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1
 -- Addresses (CODESYS pointers, Stref.IEC.Memory)
 
 layoutOf :: Program -> Layout
-layoutOf prog = Layout (\n -> maybe [] (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (lookupPou prog n))
+layoutOf prog = Layout (\n -> maybe [] (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (lookupPou prog n)) (`M.lookup` prPackModes prog)
 
 -- | The roots of memory with their types and addresses: globals, program
 -- instances, the frames of the calls under way.
@@ -896,6 +896,8 @@ areaOf = \case
 placeOf :: Location -> Type -> (Char, Integer, Maybe Int, Int)
 placeOf l t = case (t, locAddress l) of
   (TElem BOOL, [b, bit]) -> (area, b, Just (fromInteger bit), 1)
+  -- NX-TYPE-18: a BOOL at a byte or word address is the whole first byte
+  (TElem BOOL, [a]) | byteSized l -> (area, a, Nothing, 1)
   (TElem BOOL, [n]) -> (area, n `div` 8, Just (fromInteger (n `mod` 8)), 1)
   (_, a : _) -> (area, a, Nothing, width)
   _ -> (area, 0, Nothing, width)

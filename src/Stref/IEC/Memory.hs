@@ -54,15 +54,19 @@ import Stref.IEC.Types
 import Stref.IEC.Values (Step (..), Value (..), defaultValue, wrapInt)
 
 -- | What the layout needs to know of the unit: the members (upper-case
--- names and types) of a function block or program type.
-newtype Layout = Layout {lyMembers :: Text -> [(Text, Type)]}
+-- names and types) of a function block or program type, and the pack_mode
+-- of a structure type (NX-PRAGMA-11), by its upper-case name.
+data Layout = Layout
+  { lyMembers :: Text -> [(Text, Type)]
+  , lyPack :: Text -> Maybe Integer
+  }
 
 sizeAlign :: Layout -> Type -> (Integer, Integer)
 sizeAlign ly = \case
   TElem e -> let n = elemSize e in (n, n)
   TString w n -> if w then (2 * (toInteger n + 1), 2) else (toInteger n + 1, 1)
   TArray bs t -> let (s, a) = sizeAlign ly t in (count bs * s, a)
-  TStruct _ fs -> record (map snd fs)
+  TStruct n fs -> packed (lyPack ly (T.toUpper n)) (map snd fs)
   TEnum _ _ -> (2, 2)
   TNumEnum _ e _ -> let n = elemSize e in (n, n)
   TSubrange e _ _ -> let n = elemSize e in (n, n)
@@ -74,9 +78,15 @@ sizeAlign ly = \case
   TProgram n -> record (map snd (lyMembers ly n))
   TPointer _ -> (4, 4)
   where
-    record ts =
-      let (end, al) = foldl (\(off, a) t -> let (s, ta) = sizeAlign ly t in (alignUp (max 1 ta) off + s, max a ta)) (0, 1) ts
+    record = packed Nothing
+    packed pack ts =
+      let (end, al) = foldl (\(off, a) t -> let ta = packAlign pack (snd (sizeAlign ly t)) in (alignUp ta off + fst (sizeAlign ly t), max a ta)) (0, 1) ts
        in (alignUp al end, al)
+
+-- | A member's alignment under a structure's pack_mode (NX-PRAGMA-11): at
+-- most the mode's bytes; 0 and 1 leave no gaps.
+packAlign :: Maybe Integer -> Integer -> Integer
+packAlign pack a = max 1 (maybe a (min a . max 1) pack)
 
 sizeInBytes :: Layout -> Type -> Integer
 sizeInBytes ly = fst . sizeAlign ly
@@ -101,16 +111,16 @@ members ly t = case t of
   _ -> members' ly t
 
 members' :: Layout -> Type -> Maybe [(Text, Type, Integer)]
-members' ly t = place <$> case t of
-  TStruct _ fs -> Just [(T.toUpper k, ft) | (k, ft) <- fs]
-  TFB n -> Just (lyMembers ly n)
-  TProgram n -> Just (lyMembers ly n)
+members' ly t = case t of
+  TStruct n fs -> Just (place (lyPack ly (T.toUpper n)) [(T.toUpper k, ft) | (k, ft) <- fs])
+  TFB n -> Just (place Nothing (lyMembers ly n))
+  TProgram n -> Just (place Nothing (lyMembers ly n))
   _ -> Nothing
   where
-    place fs = reverse (snd (foldl step (0, []) fs))
-    step (off, acc) (k, ft) =
+    place pack fs = reverse (snd (foldl (step pack) (0, []) fs))
+    step pack (off, acc) (k, ft) =
       let (s, a) = sizeAlign ly ft
-          at = alignUp (max 1 a) off
+          at = alignUp (packAlign pack a) off
        in (at + s, (k, ft, at) : acc)
 
 -- | The offset of a path of steps inside a variable of a type, and the type
@@ -257,5 +267,6 @@ setUnionMember k f = \case
   v -> v
 
 -- | Unions and structures hold no FB instances: their layout needs none.
+-- (A structure with a pack_mode inside a union is laid out unpacked there.)
 noFBs :: Layout
-noFBs = Layout (const [])
+noFBs = Layout (const []) (const Nothing)

@@ -517,7 +517,7 @@ decl :: Policies -> Parser Decl
 decl pol = do
   attrs <- attributes pol
   choice
-    [ DTypes <$> (kw pol "TYPE" *> many (typeDecl pol) <* kw pol "END_TYPE")
+    [ DTypes . map (\t -> t {tdAttributes = attrs ++ tdAttributes t}) <$> (kw pol "TYPE" *> many (typeDecl pol) <* kw pol "END_TYPE")
     , DGlobals . (\b -> b {vbAttributes = attrs ++ vbAttributes b}) <$> varBlock pol
     , DPou . (\p -> p {pouAttributes = attrs}) <$> pou pol
     , DConfig <$> configuration pol
@@ -543,6 +543,7 @@ attributes pol
 
 typeDecl :: Policies -> Parser TypeDecl
 typeDecl pol = do
+  attrs <- attributes pol
   (p, n) <- identifier pol
   base <- if codesys pol then optional (kw pol "EXTENDS" *> identifier pol) else pure Nothing
   symbol pol ":"
@@ -551,7 +552,7 @@ typeDecl pol = do
   i <- optional (symbol pol ":=" *> initValue pol)
   -- CODESYS writes END_STRUCT END_TYPE without the ';' (NX-TYPE-51)
   if codesys pol then void (optional (symbol pol ";")) else symbol pol ";"
-  pure (TypeDecl p n spec i)
+  pure (TypeDecl p n spec i attrs)
 
 typeSpec :: Policies -> Parser TypeSpec
 typeSpec pol = do

@@ -45,7 +45,7 @@ standardFBs pol =
 libraryTypes :: Policies -> [TypeDecl]
 libraryTypes pol = case pStandardLibrary pol of
   LibraryIec -> []
-  LibraryCodesys -> [TypeDecl noPos "POINT" (TSStruct noPos [VarDecl noPos [(noPos, "X"), (noPos, "Y")] Nothing (TSName noPos "INT") Nothing Nothing [] []]) Nothing]
+  LibraryCodesys -> [TypeDecl noPos "POINT" (TSStruct noPos [VarDecl noPos [(noPos, "X"), (noPos, "Y")] Nothing (TSName noPos "INT") Nothing Nothing [] []]) Nothing []]
 
 -- | POINT as the checker resolves the declaration of 'libraryTypes'.
 pointType :: Type

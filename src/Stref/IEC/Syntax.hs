@@ -42,6 +42,7 @@ module Stref.IEC.Syntax
   , exprPos
   , stmtPos
   , binOpSymbol
+  , byteSized
   ) where
 
 import Data.Text (Text)
@@ -67,6 +68,7 @@ data TypeDecl = TypeDecl
   , tdName :: Name
   , tdSpec :: TypeSpec
   , tdInit :: Maybe Init
+  , tdAttributes :: [Attribute] -- ^ CODESYS: the attributes before the type (pack_mode, NX-PRAGMA-11)
   }
   deriving (Eq, Show)
 
@@ -132,6 +134,10 @@ data Location = Location
   , locAddress :: [Integer]
   }
   deriving (Eq, Ord, Show)
+
+-- | An address of a byte or more (%IB, %QW, %MD, %IL), not of a bit.
+byteSized :: Location -> Bool
+byteSized l = locSize l `elem` ("BWDL" :: String) && length (locAddress l) == 1
 
 data VarDecl = VarDecl
   { vdPos :: Pos
