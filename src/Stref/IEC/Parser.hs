@@ -329,6 +329,12 @@ stringLit pol q = lexeme pol $ do
                   | e `elem` ("Pp" :: String) -> go off ('\f' : acc)
                   | e `elem` ("Rr" :: String) -> go off ('\r' : acc)
                   | e `elem` ("Tt" :: String) -> go off ('\t' : acc)
+                  -- NX-LEX-58 (open): a WSTRING's character code has four
+                  -- hexadecimal digits, as IEC 61131-3's double-byte strings
+                  | isHexDigit e && q == '"' -> do
+                      es <- count' 0 3 (satisfy isHexDigit)
+                      when (length es < 3) (failAt eoff "invalid-escape" "in a WSTRING, $ is followed by four hexadecimal digits or one of $ \" L N P R T (NX-LEX-58)")
+                      go off (chr (foldl (\n d -> n * 16 + digitToInt d) 0 (e : es)) : acc)
                   | isHexDigit e -> do
                       e2 <- satisfy isHexDigit <|> failAt eoff "invalid-escape" "$ must be followed by two hexadecimal digits or one of $ ' L N P R T"
                       go off (chr (digitToInt e * 16 + digitToInt e2) : acc)
