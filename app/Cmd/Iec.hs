@@ -64,6 +64,7 @@ parseIec pol file src ast = case parseUnit pol file src of
           DTypes ts -> forM_ ts $ \t -> TIO.putStrLn ("TYPE " <> tdName t)
           DGlobals b -> TIO.putStrLn ("VAR_GLOBAL " <> T.intercalate ", " (concatMap (map snd . vdNames) (vbDecls b)))
           DPou p -> TIO.putStrLn (kindWord (pouKind p) <> " " <> pouName p <> " (" <> T.pack (show (length (pouBody p))) <> " statements)")
+          DVarConfig es -> TIO.putStrLn ("VAR_CONFIG " <> T.intercalate ", " [T.intercalate "." (cfgEntryPath e) | e <- es])
           DConfig c -> TIO.putStrLn ("CONFIGURATION " <> cfgName c <> ": " <> T.intercalate ", " [pcInstance pc <> " : " <> pcType pc | r <- cfgResources c, pc <- resPrograms r])
         pure ExitSuccess
   where

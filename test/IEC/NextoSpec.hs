@@ -15,6 +15,7 @@ import Support.Iec
 import Test.Hspec
 import Test.QuickCheck (property)
 import Stref.IEC.Memory (decode, encode)
+import Stref.Conformance.Protocol (Scalar (..))
 
 spec :: Spec
 spec = describe "the nexto dialect" $ do
@@ -144,6 +145,19 @@ spec = describe "the nexto dialect" $ do
       runUnit nexto natural 1 "MAIN.off" `shouldBe` Right (VInt DWORD 4)
     it "a pack_mode other than 0, 1, 2, 4, 8 is rejected" $
       rejectKind nexto "{attribute 'pack_mode' := '3'}\nTYPE Rec : STRUCT flag : BOOL; END_STRUCT END_TYPE\nPROGRAM MAIN\nVAR r1 : Rec; END_VAR\nr1.flag := TRUE;\nEND_PROGRAM\n" `shouldBe` Just ("value-out-of-limits", 2)
+  describe "VAR_CONFIG (NX-VAR-14, NX-VAR-15)" $ do
+    let unit body = "FUNCTION_BLOCK Relay\nVAR\n  xIn AT %I* : BOOL;\n  xOut AT %Q* : BOOL;\nEND_VAR\nxOut := xIn;\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR\n  rl : Relay;\n  img AT %QX0.2 : BOOL;\n  sw AT %IX0.5 : BOOL;\n  early : BOOL;\nEND_VAR\n" <> body <> "\nEND_PROGRAM\nVAR_CONFIG\n  MAIN.rl.xIn AT %IX0.5 : BOOL;\n  MAIN.rl.xOut AT %QX0.2 : BOOL;\nEND_VAR\n"
+    it "an input placed by VAR_CONFIG is read before the task, an output written to the image after it" $ do
+      let src = unit "rl(); early := img;"
+          on = Scan [("%IX0.5", SBool True)]
+      runCalls nexto src [on] "MAIN.rl.xOut" `shouldBe` Right (VBool True)
+      runCalls nexto src [on] "MAIN.early" `shouldBe` Right (VBool False) -- the image has it after the task only
+      runCalls nexto src [on, Scan []] "MAIN.early" `shouldBe` Right (VBool True)
+      runCalls nexto src [on, Scan [("%IX0.5", SBool False)]] "MAIN.rl.xOut" `shouldBe` Right (VBool False)
+    it "the IEC core has no incomplete address" $
+      rejectKind tecomat "FUNCTION_BLOCK R\nVAR\n  xIn AT %I* : BOOL;\nEND_VAR\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR r1 : R; END_VAR\nr1();\nEND_PROGRAM\n" `shouldSatisfy` maybe False ((== 3) . snd)
+    it "an incomplete address outside an FB's VAR is rejected" $
+      rejectKind nexto "PROGRAM MAIN\nVAR\n  xIn AT %I* : BOOL;\nEND_VAR\nxIn := TRUE;\nEND_PROGRAM\n" `shouldBe` Just ("section-not-allowed", 3)
   describe "UNION (NX-TYPE-72, NX-TYPE-73)" $ do
     let unionSrc decls body = "TYPE U :\nUNION\n" <> decls <> "\nEND_UNION\nEND_TYPE\nPROGRAM MAIN\nVAR u : U; a : ARRAY [1..2] OF U; x : DWORD; b : BYTE; rv : REAL; txt2 : STRING; p : POINTER TO BYTE; END_VAR\n" <> body <> "\nEND_PROGRAM\n"
     it "a REAL member reads as its IEEE 754 pattern in a DWORD member" $ do

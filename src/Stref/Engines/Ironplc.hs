@@ -91,7 +91,6 @@ plan pol rq = Plan (rqSource rq) (dialectFlags pol) $ case parseUnit pol "case.s
       observed <- mapM (observe prog) (obsVars (rqObserve rq))
       let interval = maybe 0 (`div` 1000) (prTaskInterval prog)
       Right (Run scans (4 + fromInteger interval * scans) observed)
-    unitDecls (Unit ds) = ds
     noInputs c
       | Just r <- callReset c = Left ("ironplcvm has no controller reset (" <> r <> ")")
       | M.null (callSet c) = Right ()

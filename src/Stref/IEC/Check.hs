@@ -224,6 +224,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
         [v {viKey = staticPrefix (pouName p) <> viKey v} | p <- pous, v <- varsOf M.! key (pouName p), viSection v == SecStat]
           ++ [v {viKey = staticPrefix (pouName p <> "." <> m) <> viKey v} | p <- pous, (m, (_, vs)) <- M.toList (membersOf M.! key (pouName p)), v <- vs, viSection v == SecStat]
   checkRecursion False pous globalBlocks
+  varConfig <- runReaderT (checkVarConfig pous varsOf ([(inst, TProgram t) | (inst, t) <- programRoots] ++ [(viName g, viType g) | g <- globals]) (concat [es | DVarConfig es <- decls])) env2
   forM_ configs $ \c -> forM_ (cfgResources c) $ \r ->
     when (T.null (resName r)) $ case map taskPos (resTasks r) ++ map pcPos (resPrograms r) of
       (tp : _) -> throwError (VerificationError "section-not-allowed" tp "TASK and PROGRAM ... WITH stand inside a RESOURCE ... END_RESOURCE (TC-CFG-8, TC-CFG-12)")
@@ -242,12 +243,57 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prGlobalInits = globalInits
       , prGlobalInitArgs = globalInitArgs
       , prPackModes = packModes
+      , prVarConfig = varConfig
       , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where
     staticPrefix n = "$STAT." <> key n <> "."
     selfOf p = if pouKind p `elem` [KFunctionBlock, KProgram] then Just (key (pouName p)) else Nothing
     reservedMessage n = "'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name user declarations (TC-LEX-1, TC-LEX-3)"
+
+-- | NX-VAR-14: VAR_CONFIG gives each instance's variable declared at an
+-- incomplete address (%I*, %Q*) its address, by the instance's full path;
+-- the class (input, output) and the type must agree, a path that names no
+-- such variable is an error, and so is such a variable left without one.
+-- The result: the class, the path, the address and the type of each.
+checkVarConfig :: [Pou] -> M.Map Text [VarInfo] -> [(Text, Type)] -> [ConfigEntry] -> C [(Char, [Step], Location, Type)]
+checkVarConfig pous varsOf roots entries = do
+  let open = M.fromList [(key (pouName p), [(n, locArea l, vdPos d) | vb <- pouVars p, d <- vbDecls vb, Just l <- [vdAt d], incomplete l, (_, n) <- vdNames d]) | p <- pous, pouKind p == KFunctionBlock]
+      typeOf fb k = maybe (TElem BOOL) viType (find ((== k) . viKey) (M.findWithDefault [] fb varsOf))
+      instancesIn n = [v | v <- M.findWithDefault [] (key n) varsOf, isInstance (viType v)]
+      isInstance = \case
+        TFB _ -> True
+        _ -> False
+      -- every path to such a variable, through the FB instances
+      -- (names as declared; compared by key)
+      walk :: Int -> [Text] -> Type -> [([Text], Char, Type, Pos)]
+      walk depth path t
+        | depth > 32 = []
+        | otherwise = case t of
+            TFB n -> [(path ++ [k], area, typeOf (key n) (key k), p) | (k, area, p) <- M.findWithDefault [] (key n) open] ++ inner n
+            TProgram n -> inner n
+            _ -> []
+        where
+          inner n = concat [walk (depth + 1) (path ++ [viName v]) (viType v) | v <- instancesIn n]
+      wanted = concat [walk 0 [r] t | (r, t) <- roots]
+      dotted = T.intercalate "."
+  configured <- forM entries $ \e -> do
+    let path = map key (cfgEntryPath e)
+        at = cfgEntryAt e
+        here = cfgEntryPos e
+    case find (\(p, _, _, _) -> map key p == path) wanted of
+      Nothing -> failC "undeclared-variable" here ("VAR_CONFIG names " <> dotted (cfgEntryPath e) <> ", which is no instance's variable declared at %I* or %Q* (NX-VAR-14)")
+      Just (_, area, ty, _) -> do
+        when (incomplete at) $ failC "type-mismatch" here "VAR_CONFIG gives a complete address, such as %IX1.0"
+        when (locArea at /= area) $ failC "type-mismatch" here (dotted (cfgEntryPath e) <> " is declared at %" <> T.singleton area <> "*, so its address is %" <> T.singleton area <> "..., not " <> locText at <> " (NX-VAR-14)")
+        t <- resolveType (cfgEntryType e)
+        unless (t == ty) $ failC "type-mismatch" here (dotted (cfgEntryPath e) <> " is a " <> typeText ty <> ", not a " <> typeText t <> " (NX-VAR-14)")
+        when (ty == TElem BOOL && locationType at /= TElem BOOL && not (byteSized at)) $ failC "type-mismatch" here ("the address " <> locText at <> " is not a bit")
+        pure (area, map StepField path, at, ty)
+  forM_ wanted $ \(p, _, _, pos) ->
+    unless (any (\(_, s, _, _) -> s == map (StepField . key) p) configured) $
+      failC "unconfigured-address" pos ("the instance variable " <> dotted p <> " is declared at an incomplete address and VAR_CONFIG gives it none (NX-VAR-14)")
+  pure configured
 
 -- | TC-CFG-11: the programs of each task in the order of their association;
 -- tasks by their Number property (the Tecomat process number), programs
@@ -488,7 +534,7 @@ declVars kind sec constant retention d = do
   -- at a byte, word or double word address, of which it fills the first
   -- byte (NX-TYPE-18)
   case (vdAt d, ty) of
-    (Just l, TElem BOOL) | locationType l /= TElem BOOL, not (pExtensions pol == ExtensionsCodesys && byteSized l) -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
+    (Just l, TElem BOOL) | locationType l /= TElem BOOL, not (incomplete l), not (pExtensions pol == ExtensionsCodesys && byteSized l) -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
     _ -> pure ()
   base <- resolveDefault (vdType d)
   -- NX-VAR-24: under CODESYS an initial value may use variables and calls;
@@ -499,9 +545,15 @@ declVars kind sec constant retention d = do
     Just i@(IExpr _) | pExtensions pol == ExtensionsCodesys -> initialValue ty base i `catchError` \e ->
       if veKind e `elem` ["not-a-constant", "undeclared-variable", "undeclared-function", "read-not-allowed"] then pure base else throwError e
     Just i -> initialValue ty base i
+  -- NX-VAR-14: a variable at %I* or %Q* is an FB's own, placed by VAR_CONFIG
+  -- (checkVarConfig) for each instance
+  forM_ (vdAt d) $ \l -> when (incomplete l) $ do
+    when (kind /= Just KFunctionBlock || sec /= SecVar) $ failC "section-not-allowed" (vdPos d) "an incomplete address (%I*, %Q*) is for the VAR of a function block, which VAR_CONFIG completes (NX-VAR-14)"
+    when (null (vdNames d)) $ failC "not-a-variable" (vdPos d) "a variable at an incomplete address needs a name, by which VAR_CONFIG places it (NX-VAR-14)"
+  let at = vdAt d >>= \l -> if incomplete l then Nothing else Just l
   case vdNames d of
-    [] -> pure [VarInfo (maybe "" locText (vdAt d)) (maybe "" locText (vdAt d)) sec ty initV constant (vdAt d) Nothing (vdPos d) retention]
-    ns -> pure [VarInfo n (key n) sec ty initV constant (vdAt d) (vdEdge d) p retention | (p, n) <- ns]
+    [] -> pure [VarInfo (maybe "" locText at) (maybe "" locText at) sec ty initV constant at Nothing (vdPos d) retention]
+    ns -> pure [VarInfo n (key n) sec ty initV constant at (vdEdge d) p retention | (p, n) <- ns]
 
 -- | The initial value of a type as declared: a TYPE's own initial value,
 -- the initial values of a structure's fields, the type's default otherwise

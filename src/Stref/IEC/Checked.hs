@@ -46,6 +46,7 @@ data Program = Program
   , prGlobalInitArgs :: Map Text [(Text, CExpr)] -- ^ CODESYS: the FB_Init inputs of global instances (NX-POU-35)
   , prChecks :: [Text] -- ^ the implicit check functions the program declares, by key (NX-ERR-1)
   , prPackModes :: Map Text Integer -- ^ CODESYS: the pack_mode of each structure type that states one, by key (NX-PRAGMA-11)
+  , prVarConfig :: [(Char, [Step], Location, Type)] -- ^ CODESYS: each instance variable VAR_CONFIG places, its class (I, Q), path, address and type (NX-VAR-14)
   }
 
 -- | A declared variable.

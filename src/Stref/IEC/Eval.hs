@@ -216,9 +216,14 @@ runInit pol prog m0 act =
         _ -> (m, Nothing)
 
 -- | One scan cycle at the given clock: each program instance in order.
+-- NX-VAR-15: the variables VAR_CONFIG places take their inputs before the
+-- task and give their outputs to the process image only after it, when it
+-- ends without an error.
 runCycle :: Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
 runCycle pol prog clock m0 =
-  let m = m0 {mClock = clock, mSteps = 0, mFrames = M.empty}
+  let inputs m1 = foldl (\acc (_, steps, l, t) -> fromMaybe acc (writeVariablePath prog acc steps (readLocated l t (mMemory acc)))) m1 [c | c@('I', _, _, _) <- prVarConfig prog]
+      outputs m1 = foldl (\acc (_, steps, l, t) -> maybe acc (\(v, _) -> acc {mMemory = writeLocated l t v (mMemory acc)}) (readVariablePath prog acc steps)) m1 [c | c@('Q', _, _, _) <- prVarConfig prog]
+      m = inputs m0 {mClock = clock, mSteps = 0, mFrames = M.empty}
       run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
         Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
@@ -226,7 +231,7 @@ runCycle pol prog clock m0 =
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
         Left (SigFault p f) -> (m', Just (StopFault p f))
-        _ -> (m', Nothing)
+        _ -> (outputs m', Nothing)
 
 fault :: Pos -> Fault -> Eval a
 fault p f = throwError (SigFault p f)

@@ -500,19 +500,23 @@ location :: Policies -> Parser Location
 location pol = lexeme pol $ do
   off <- getOffset
   _ <- char '%'
-  area <- satisfy (`elem` ("IQMXYSRiqmxysr" :: String)) <|> failAt off "invalid-operand" "% must be followed by I, Q, M (or Tecomat's X, Y, S, R)"
-  size <- optional (satisfy (`elem` ("XBWDLxbwdl" :: String)))
-  nums <- (readIn 10 <$> digitsIn 10) `sepBy1` char '.'
-  -- TC-ADDR-1: a bit number is one of the 8 bits of its byte; addresses
-  -- are kept within 16 bits so that no address builds a huge number
-  case nums of
-    [_, b] | b > 7 -> failAt off "value-out-of-limits" ("bit " <> T.pack (show b) <> " does not exist: a byte has the bits 0 to 7")
-    _ | any (> 65535) nums || length nums > 2 -> failAt off "value-out-of-limits" "a direct address has a byte number up to 65535 and an optional bit number"
-    _ -> pure ()
-  let a = toUpperC area
-      sz = maybe ' ' toUpperC size
-      txt = "%" <> T.singleton a <> (if sz == ' ' then "" else T.singleton sz) <> T.intercalate "." (map (T.pack . show) nums)
-  pure (Location txt a sz nums)
+  area <- toUpperC <$> (satisfy (`elem` ("IQMXYSRiqmxysr" :: String)) <|> failAt off "invalid-operand" "% must be followed by I, Q, M (or Tecomat's X, Y, S, R)")
+  -- NX-LEX-61: CODESYS's incomplete %I* and %Q*, which VAR_CONFIG completes
+  star <- if codesys pol && area `elem` ("IQ" :: String) then optional (char '*') else pure Nothing
+  case star of
+    Just _ -> pure (Location ("%" <> T.singleton area <> "*") area '*' [])
+    Nothing -> do
+      size <- optional (satisfy (`elem` ("XBWDLxbwdl" :: String)))
+      nums <- (readIn 10 <$> digitsIn 10) `sepBy1` char '.'
+      -- TC-ADDR-1: a bit number is one of the 8 bits of its byte; addresses
+      -- are kept within 16 bits so that no address builds a huge number
+      case nums of
+        [_, b] | b > 7 -> failAt off "value-out-of-limits" ("bit " <> T.pack (show b) <> " does not exist: a byte has the bits 0 to 7")
+        _ | any (> 65535) nums || length nums > 2 -> failAt off "value-out-of-limits" "a direct address has a byte number up to 65535 and an optional bit number"
+        _ -> pure ()
+      let sz = maybe ' ' toUpperC size
+          txt = "%" <> T.singleton area <> (if sz == ' ' then "" else T.singleton sz) <> T.intercalate "." (map (T.pack . show) nums)
+      pure (Location txt area sz nums)
   where
     toUpperC c = if isAsciiLower c then toEnum (fromEnum c - 32) else c
 
@@ -527,6 +531,7 @@ decl pol = do
     , DGlobals . (\b -> b {vbAttributes = attrs ++ vbAttributes b}) <$> varBlock pol
     , DPou . (\p -> p {pouAttributes = attrs}) <$> pou pol
     , DConfig <$> configuration pol
+    , DVarConfig <$> extensionP pol (kw pol "VAR_CONFIG" *> many (configEntry pol) <* kw pol "END_VAR")
     ]
     <?> "TYPE, VAR_GLOBAL, FUNCTION, FUNCTION_BLOCK, PROGRAM or CONFIGURATION"
 
@@ -546,6 +551,18 @@ attributes pol
   where
     hspace = void (takeWhileP Nothing (\c -> c == ' ' || c == '\t'))
     quoted = char '\'' *> takeWhileP Nothing (\c -> c /= '\'' && c /= '\n') <* char '\''
+
+-- | @MainPrg.locioVar1.xLocIn AT %IX1.0 : BOOL;@ (NX-VAR-14)
+configEntry :: Policies -> Parser ConfigEntry
+configEntry pol = do
+  p <- pos
+  path <- map snd <$> identifier pol `sepBy1` symbol pol "."
+  kw pol "AT"
+  l <- location pol
+  symbol pol ":"
+  t <- typeSpec pol
+  symbol pol ";"
+  pure (ConfigEntry p path l t)
 
 typeDecl :: Policies -> Parser TypeDecl
 typeDecl pol = do

@@ -43,6 +43,8 @@ module Stref.IEC.Syntax
   , stmtPos
   , binOpSymbol
   , byteSized
+  , incomplete
+  , ConfigEntry (..)
   ) where
 
 import Data.Text (Text)
@@ -61,6 +63,18 @@ data Decl
   | DGlobals VarBlock -- ^ a top-level @VAR_GLOBAL@ block (TC-VAR-13)
   | DPou Pou
   | DConfig Configuration
+  | DVarConfig [ConfigEntry] -- ^ CODESYS: @VAR_CONFIG ... END_VAR@ (NX-VAR-14)
+  deriving (Eq, Show)
+
+-- | CODESYS: the address of an instance's variable declared at an incomplete
+-- address (@%I*@, @%Q*@), given by its full instance path (NX-VAR-14):
+-- @MainPrg.locioVar1.xLocIn AT %IX1.0 : BOOL;@
+data ConfigEntry = ConfigEntry
+  { cfgEntryPos :: Pos
+  , cfgEntryPath :: [Name]
+  , cfgEntryAt :: Location
+  , cfgEntryType :: TypeSpec
+  }
   deriving (Eq, Show)
 
 data TypeDecl = TypeDecl
@@ -134,6 +148,11 @@ data Location = Location
   , locAddress :: [Integer]
   }
   deriving (Eq, Ord, Show)
+
+-- | CODESYS: an incomplete address, @%I*@ or @%Q*@ (NX-LEX-61), which
+-- VAR_CONFIG completes.
+incomplete :: Location -> Bool
+incomplete l = locSize l == '*'
 
 -- | An address of a byte or more (%IB, %QW, %MD, %IL), not of a bit.
 byteSized :: Location -> Bool
