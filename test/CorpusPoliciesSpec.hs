@@ -63,11 +63,12 @@ interfacePolicies = ["lifetime", "standard-library", "reserved-names"]
 
 -- | The policies that give or take parts of CODESYS's language
 -- (extensions, bit-string arithmetic, program calls, writing an FB's inputs
--- and outputs) or change what an enumerated value is: a case of one
+-- and outputs, TIME literals beyond the other's range) or change what an
+-- enumerated value is: a case of one
 -- dialect is not a program of the other, or an IEC rejection becomes a
 -- CODESYS program, under the other alternative (IEC.NextoSpec runs both).
 codesysInterface :: [Text]
-codesysInterface = ["extensions", "enumerations", "bit-string-arithmetic", "program-calls", "fb-access"]
+codesysInterface = ["extensions", "enumerations", "bit-string-arithmetic", "program-calls", "fb-access", "time-range"]
 
 policiesWith :: (Text, Text) -> Policies
 policiesWith (k, v) = either (error . T.unpack) id (setPolicy k v mastertoolXE)

@@ -41,6 +41,7 @@ module Stref.Policy
   , ProgramCalls (..)
   , FBAccess (..)
   , SubrangeInitial (..)
+  , TimeRange (..)
   , Model (..)
   , mastertoolXE
   , tecomat
@@ -218,6 +219,13 @@ data FBAccess = AccessIec | AccessCodesys
 -- | The initial value of a subrange variable declared without one: its
 -- lower bound (IEC: TC-TYPE-21), or 0 when the range holds 0 (CODESYS:
 -- "the default initial value is 0 for all declarations", NX-TYPE-35).
+-- | What a TIME holds: a signed 32-bit count of milliseconds (IEC,
+-- TC-TYPE-19), or an unsigned one, a DWORD (CODESYS, NX-TYPE-30), in which
+-- a negative duration does not exist and a result below 0 wraps or
+-- saturates like any other overflow.
+data TimeRange = TimeSigned | TimeUnsigned
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 data SubrangeInitial = SubrangeLowerBound | SubrangeZero
   deriving (Eq, Ord, Show, Enum, Bounded)
 
@@ -273,6 +281,7 @@ data Policies = Policies
   , pProgramCalls :: !ProgramCalls
   , pFBAccess :: !FBAccess
   , pSubrangeInitial :: !SubrangeInitial
+  , pTimeRange :: !TimeRange
   }
   deriving (Eq, Show)
 
@@ -321,6 +330,7 @@ mastertoolXE =
     , pProgramCalls = ProgramCallsForbidden
     , pFBAccess = AccessIec
     , pSubrangeInitial = SubrangeLowerBound
+    , pTimeRange = TimeSigned
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -366,6 +376,7 @@ tecomat =
     , pProgramCalls = ProgramCallsForbidden -- TC-POU-44
     , pFBAccess = AccessIec -- TC-VAR-1, TC-POU-24
     , pSubrangeInitial = SubrangeLowerBound -- TC-TYPE-21
+    , pTimeRange = TimeSigned -- TC-TYPE-19
     }
 
 -- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
@@ -410,6 +421,7 @@ nexto =
     , pProgramCalls = ProgramCallsAllowed -- NX-POU-2..4
     , pFBAccess = AccessCodesys -- NX-POU-19
     , pSubrangeInitial = SubrangeZero -- NX-TYPE-35
+    , pTimeRange = TimeUnsigned -- NX-TYPE-30, NX-TYPE-34
     }
 
 -- | An engine's preset: what MATIEC's upstream head does where the IEC
@@ -524,6 +536,7 @@ policyTable =
   , enumPolicy "program-calls" ["forbidden", "allowed"] pProgramCalls (\v p -> p {pProgramCalls = v})
   , enumPolicy "fb-access" ["iec", "codesys"] pFBAccess (\v p -> p {pFBAccess = v})
   , enumPolicy "subrange-initial" ["lower-bound", "zero"] pSubrangeInitial (\v p -> p {pSubrangeInitial = v})
+  , enumPolicy "time-range" ["signed", "unsigned"] pTimeRange (\v p -> p {pTimeRange = v})
   ]
 
 lookupPolicy :: Text -> Maybe PolicyInfo

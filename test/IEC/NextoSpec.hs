@@ -103,6 +103,14 @@ spec = describe "the nexto dialect" $ do
     it "reserved-names: codesys frees the standard FBs' parameter names, iec reserves them (NX-LEX-12, TC-LEX-4)" $ do
       runMain nexto "VAR q : INT; END_VAR q := 3;" 1 "q" `shouldBe` Right (VInt INT 3)
       fmap fst (rejectKind nexto {pReservedNames = ReservedIec} (unit "VAR q : INT; END_VAR\nq := 3;")) `shouldBe` Just "reserved-name"
+    it "time-range: unsigned holds T#49d17h2m47s295ms and wraps below 0; signed holds T#-1ms and rejects the larger literal (NX-TYPE-30, TC-TYPE-19)" $ do
+      runMain nexto "VAR d : DWORD; END_VAR d := TIME_TO_DWORD(T#49d17h2m47s295ms);" 1 "d" `shouldBe` Right (VInt DWORD 4294967295)
+      runMain nexto "VAR a : TIME; b : TIME := T#1ms; END_VAR a := a - b;" 1 "a" `shouldBe` Right (VTime TIME 4294967295)
+      runMain nexto {pOverflow = Saturate} "VAR a : TIME; b : TIME := T#1ms; END_VAR a := a - b;" 1 "a" `shouldBe` Right (VTime TIME 0)
+      runMain nexto {pTimeRange = TimeSigned} "VAR a : TIME; b : TIME := T#1ms; END_VAR a := a - b;" 1 "a" `shouldBe` Right (VTime TIME (-1))
+      runMain nexto "VAR x : REAL := 3.0E9; t : TIME; END_VAR t := REAL_TO_TIME(x);" 1 "t" `shouldBe` Right (VTime TIME 3000000000)
+      fmap fst (rejectKind nexto {pTimeRange = TimeSigned} (unit "VAR d : DWORD; END_VAR\nd := TIME_TO_DWORD(T#49d17h2m47s295ms);")) `shouldBe` Just "value-out-of-limits"
+      fmap fst (rejectKind nexto (unit "VAR t : TIME := T#-5ms; END_VAR\nt := t;")) `shouldBe` Just "value-out-of-limits"
     it "subrange-initial: zero starts a range that holds 0 at 0, lower-bound at its lower bound (NX-TYPE-35, TC-TYPE-21)" $ do
       runMain nexto "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT 0)
       runMain nexto {pSubrangeInitial = SubrangeLowerBound} "VAR t : INT (-40..120); END_VAR" 1 "t" `shouldBe` Right (VInt INT (-40))

@@ -27,7 +27,7 @@ import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
 import Stref.IEC.Memory (Layout (..), sizeInBytes)
-import Stref.IEC.Operators (binary, binaryType, unary, unaryType)
+import Stref.IEC.Operators (binary, binaryType, fitsUnder, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
 import Stref.IEC.StandardFB (libraryTypes, standardFBNames, standardFBs)
 import Stref.IEC.Syntax
@@ -1600,7 +1600,8 @@ literal p = \case
   LWString s -> fixed p (TString True (max 1 (T.length s))) (CConst (VString s))
   LTime ns -> do
     let ms = ns `quot` 1000000
-    unless (fitInt TIME ms) (failC "value-out-of-limits" p "the duration lies outside the range of TIME (TC-TYPE-19)")
+    pol <- asks envPol
+    unless (fitsUnder pol TIME ms) (failC "value-out-of-limits" p (if pTimeRange pol == TimeUnsigned then "the duration lies outside the range of TIME, 0 to T#49d17h2m47s295ms (NX-TYPE-30)" else "the duration lies outside the range of TIME (TC-TYPE-19)"))
     fixed p (TElem TIME) (CConst (VTime TIME ms))
   LDate ns -> fixed p (TElem DATE) (CConst (VDate (ns `div` 1000000)))
   LTod ns -> fixed p (TElem TOD) (CConst (VTod (ns `div` 1000000)))

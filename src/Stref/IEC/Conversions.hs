@@ -50,7 +50,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import GHC.Float (double2Float, float2Double)
 import Numeric (floatToDigits)
-import Stref.IEC.Operators (finite, illTyped, realOverflowFrom)
+import Stref.IEC.Operators (finite, fitsUnder, illTyped, rangeUnder, realOverflowFrom, wrapUnder)
 import Stref.IEC.Parser (timeLiteral)
 import Stref.IEC.Types
 import Stref.IEC.Values
@@ -338,7 +338,8 @@ toElem p y v = case v of
       | y == BOOL = Just (VBool (r /= 0))
       | y == REAL = Just (VReal (realOverflowFrom p (finite r) asFloat))
       | y == LREAL = Just (VLReal asDouble)
-      | isInt y || isDuration y = Just (integral y (realToInteger (pRealToInt p) y r))
+      -- an unsigned TIME (time-range) takes a real as a UDINT does
+      | isInt y || isDuration y = Just (integral y (realToInteger (pRealToInt p) (if y == TIME && pTimeRange p == TimeUnsigned then UDINT else y) r))
       | codesys && isAnyDate y = Just (numberDate p y (realToInteger (pRealToInt p) DWORD r))
       | otherwise = Nothing
     fromDuration e n
@@ -379,10 +380,10 @@ numberDate p y n =
 -- in two's complement (@wrap@) or the nearest bound (@saturate@).
 narrowInt :: Policies -> Elem -> Integer -> Integer
 narrowInt p y n
-  | fitInt y n = n
+  | fitsUnder p y n = n
   | otherwise = case pNarrowInt p of
-      NarrowWrap -> wrapInt y n
-      NarrowSaturate -> let (lo, hi) = intRange y in max lo (min hi n)
+      NarrowWrap -> wrapUnder p y n
+      NarrowSaturate -> let (lo, hi) = rangeUnder p y in max lo (min hi n)
 
 -- | REAL or LREAL to an integer type (TC-CONV-12, policy @real-to-int@):
 -- truncated toward zero or rounded to the nearest integer with ties to even

@@ -35,7 +35,7 @@ import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, cast
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
-import Stref.IEC.Operators (binary, unary)
+import Stref.IEC.Operators (binary, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
 import Stref.IEC.Types
@@ -594,7 +594,9 @@ eval ce = case ceNode ce of
   -- NX-OP-87, NX-TASK-9: TIME() (only under standard-library = codesys,
   -- which the checker decides) is the time since the controller started:
   -- the clock the standard FBs read, in TIME's 32 bits
-  CStandard f [] | f == timeFunction -> VTime TIME . wrapInt TIME <$> gets mClock
+  CStandard f [] | f == timeFunction -> do
+    pol <- asks cxPol
+    VTime TIME . wrapUnder pol TIME <$> gets mClock
   CStandard "MUX" (k : ins) -> do
     pol <- asks cxPol
     kv <- eval k

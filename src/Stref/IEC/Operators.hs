@@ -22,6 +22,9 @@ module Stref.IEC.Operators
     -- * Shared with the standard functions and the conversions
   , intResult
   , inRange
+  , rangeUnder
+  , fitsUnder
+  , wrapUnder
   , realOverflow
   , realOverflowFrom
   , finite
@@ -245,13 +248,30 @@ intResult p e n
 -- | 'intResult' without the value constructor; for TIME and LTIME too.
 inRange :: Policies -> Elem -> Integer -> Either Fault Integer
 inRange p e n
-  | fitInt e n = Right n
+  | fitsUnder p e n = Right n
   | otherwise = case pOverflow p of
       Saturate -> Right (max lo (min hi n))
-      Wrap -> Right (wrapInt e n)
+      Wrap -> Right (wrapUnder p e n)
       Trap -> Left (Fault "overflow" ("the result " <> T.pack (show n) <> " is outside the range of " <> elemName e))
   where
-    (lo, hi) = intRange e
+    (lo, hi) = rangeUnder p e
+
+-- | The values of a type under the policies: TIME's range is policy
+-- @time-range@'s, signed (TC-TYPE-19) or a DWORD's (NX-TYPE-30); every
+-- other type's is its own.
+rangeUnder :: Policies -> Elem -> (Integer, Integer)
+rangeUnder p e
+  | e == TIME && pTimeRange p == TimeUnsigned = (0, 2 ^ (32 :: Int) - 1)
+  | otherwise = intRange e
+
+fitsUnder :: Policies -> Elem -> Integer -> Bool
+fitsUnder p e n = let (lo, hi) = rangeUnder p e in lo <= n && n <= hi
+
+-- | The low bits of a value, read in the type's range under the policies.
+wrapUnder :: Policies -> Elem -> Integer -> Integer
+wrapUnder p e n
+  | e == TIME && pTimeRange p == TimeUnsigned = n `mod` 2 ^ (32 :: Int)
+  | otherwise = wrapInt e n
 
 -- | Integer or duration division by zero (TC-OP-22, policy @div-zero@):
 -- a runtime error of kind @division-by-zero@ (@error@ and @trap@ alike), or
