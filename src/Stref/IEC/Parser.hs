@@ -13,7 +13,7 @@ module Stref.IEC.Parser
   , timeLiteral
   ) where
 
-import Control.Monad (unless, void, when)
+import Control.Monad (forM_, unless, void, when)
 import Data.Char (chr, digitToInt, isAlpha, isAscii, isAsciiLower, isAsciiUpper, isDigit, isHexDigit, isSpace)
 import qualified Data.List.NonEmpty as NE
 import Data.Maybe (fromMaybe, isJust)
@@ -584,11 +584,20 @@ typeSpec pol = do
     [ do
         kw pol "ARRAY"
         symbol pol "["
+        -- NX-TYPE-49 (open): the manual says nothing of ARRAY[*]
+        star <- if codesys pol then optional (getOffset <* symbol pol "*") else pure Nothing
+        forM_ star $ \off -> failAt off "unsupported-type" "ARRAY[*], an array of variable length, is not in the nexto dialect: the manual does not define it (NX-TYPE-49)"
         dims <- ((,) <$> expr pol <* symbol pol ".." <*> expr pol) `sepBy1` symbol pol ","
         symbol pol "]"
         kw pol "OF"
         TSArray p dims <$> typeSpec pol
     , extensionP pol (kw pol "POINTER" *> kw pol "TO" *> (TSPointer p <$> typeSpec pol))
+    -- NX-TYPE-81, NX-TYPE-82 (open): REFERENCE is a keyword, but the manual
+    -- gives references neither a syntax nor a meaning
+    , extensionP pol $ do
+        off <- getOffset
+        kw pol "REFERENCE"
+        failAt off "unsupported-type" "REFERENCE TO is not in the nexto dialect: the manual names references but defines neither their syntax nor their meaning (NX-TYPE-82); POINTER TO is (NX-TYPE-74)"
     , kw pol "STRUCT" *> (TSStruct p . concat <$> many (varDecls pol)) <* kw pol "END_STRUCT"
     , extensionP pol (kw pol "UNION" *> (TSUnion p . concat <$> many (varDecls pol)) <* kw pol "END_UNION")
     , do
