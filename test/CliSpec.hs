@@ -8,7 +8,7 @@
 -- diagnostic band (MT-DIAG-4).
 module CliSpec (spec) where
 
-import Conformance.Paths (strefBinary)
+import Conformance.Paths (fixtureCorpus, strefBinary)
 import Data.Aeson (Value (..), decode)
 import qualified Data.Aeson.Key as Key
 import qualified Data.Aeson.KeyMap as KM
@@ -206,6 +206,30 @@ spec = describe "the stref command line" $ do
       firstLine `shouldBe` "call 1: ok (6 steps)"
       code `shouldBe` ExitFailure 141
       errText `shouldBe` ""
+
+  describe "conformance: a selection that matches nothing is a usage error" $ do
+    it "names each --rule, --feature and --filter value that matched no case, exit 2" $ do
+      (code, out, err) <- stref ["conformance", fixtureCorpus, "--rule", "TC-NOPE-1", "--feature", "calls", "--feature", "no-such-feature", "--filter", "*/nope/*"]
+      code `shouldBe` ExitFailure 2
+      lines err `shouldBe`
+        [ "stref conformance: --filter */nope/* matches no case id"
+        , "stref conformance: --feature no-such-feature matches no case"
+        , "stref conformance: --rule TC-NOPE-1 matches no case"
+        ]
+      out `shouldBe` ""
+    it "says so when each value matches some case but none matches all, exit 2" $ do
+      -- MT-OP-7 is cited only by arith/int-add-saturates, the feature calls only by calls/three-calls
+      (code, _, err) <- stref ["conformance", fixtureCorpus, "--rule", "MT-OP-7", "--feature", "calls"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` isInfixOf "the selection --feature calls --rule MT-OP-7 matches no case"
+    it "runs a selection that matches, also in a shard that holds none of its cases" $ do
+      (code, out, _) <- stref ["conformance", fixtureCorpus, "--rule", "MT-OP-7"]
+      code `shouldBe` ExitSuccess
+      last (lines out) `shouldBe` "1 passed, 0 failed, 0 unsupported, 0 engine-error, 5 skipped"
+      -- shard 2/3 holds arith/real-rounding and calls/named-vars
+      (code', out', _) <- stref ["conformance", fixtureCorpus, "--rule", "MT-OP-7", "--shard", "2/3"]
+      code' `shouldBe` ExitSuccess
+      last (lines out') `shouldBe` "0 passed, 0 failed, 0 unsupported, 0 engine-error, 2 skipped"
 
   describe "an engine that is not installed" $ do
     it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do

@@ -132,6 +132,9 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
                     , roKnownFailures = knownSet
                     , roMaxAnswerBytes = oMaxAnswer o
                     }
+            case unmatchedSelections options corpus of
+              [] -> pure ()
+              nothing -> mapM_ usage nothing >> exitWith (ExitFailure 2)
             results <- runCorpus options corpus
             let ids = S.fromList (map resId results)
                 staleKnown = [k | k <- S.toList knownSet, k `S.notMember` ids]

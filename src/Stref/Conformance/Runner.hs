@@ -25,6 +25,7 @@ module Stref.Conformance.Runner
   , runExternal
   , globMatch
   , inShard
+  , unmatchedSelections
   ) where
 
 import Control.Concurrent (forkIO)
@@ -145,6 +146,32 @@ selected o c
   | not (null (roFeatures o)) && not (any (`elem` caseFeatures c) (roFeatures o)) = Just "filtered out (--feature)"
   | not (null (roRules o)) && not (any (`elem` caseRules c) (roRules o)) = Just "filtered out (--rule)"
   | otherwise = Nothing
+
+-- | What in @--filter@, @--feature@ and @--rule@ selects no case of the
+-- corpus, one message each: a misspelt selection must not pass as a run in
+-- which every case was skipped. The whole corpus counts, not one shard,
+-- since a shard may rightly hold no selected case.
+unmatchedSelections :: RunOptions -> Corpus -> [Text]
+unmatchedSelections o corpus
+  | not (null unmatched) = unmatched
+  | selecting && not (any chosen (corpusEntries corpus)) =
+      ["the selection " <> T.unwords given <> " matches no case: each option matches some case, but no case matches all of them"]
+  | otherwise = []
+  where
+    cases = [c | Loaded c <- corpusEntries corpus]
+    ids = map entryId (corpusEntries corpus)
+    features = S.fromList (concatMap caseFeatures cases)
+    rules = S.fromList (concatMap caseRules cases)
+    unmatched =
+      ["--filter " <> g <> " matches no case id" | g <- roFilters o, not (any (globMatch g) ids)]
+        ++ ["--feature " <> f <> " matches no case" | f <- roFeatures o, f `S.notMember` features]
+        ++ ["--rule " <> r <> " matches no case" | r <- roRules o, r `S.notMember` rules]
+    selecting = not (null (roFilters o) && null (roFeatures o) && null (roRules o))
+    given = concat [["--" <> k, v] | (k, vs) <- [("filter", roFilters o), ("feature", roFeatures o), ("rule", roRules o)], v <- vs]
+    -- a malformed case has no features or rules to select it by
+    chosen = \case
+      Loaded c -> selected o c == Nothing
+      Invalid i _ _ -> null (roFeatures o) && null (roRules o) && any (`globMatch` i) (roFilters o)
 
 -- | Run the corpus's entries (after sharding) and return one result each.
 runCorpus :: RunOptions -> Corpus -> IO [CaseResult]
