@@ -8,7 +8,7 @@
 -- diagnostic band (MT-DIAG-4).
 module CliSpec (spec) where
 
-import Conformance.Paths (fixtureCorpus, strefBinary)
+import Conformance.Paths (engineScript, fixtureCorpus, strefBinary)
 import Data.Aeson (Value (..), decode)
 import qualified Data.Aeson.Key as Key
 import qualified Data.Aeson.KeyMap as KM
@@ -230,6 +230,26 @@ spec = describe "the stref command line" $ do
       (code', out', _) <- stref ["conformance", fixtureCorpus, "--rule", "MT-OP-7", "--shard", "2/3"]
       code' `shouldBe` ExitSuccess
       last (lines out') `shouldBe` "0 passed, 0 failed, 0 unsupported, 0 engine-error, 2 skipped"
+
+  describe "conformance: failures first" $ do
+    -- the canned engine answers every case as int-add-saturates expects:
+    -- %M0012 = 32767, %M0013.0 = TRUE, OUTPUT1 = TRUE, no error
+    let canned = ["conformance", fixtureCorpus, "--engine", engineScript "canned"]
+    it "lists every difference of a failing case in the text report" $ do
+      (code, out, _) <- stref canned
+      code `shouldBe` ExitFailure 1
+      -- three-calls expects %M0101 = 2 and OUTPUT1 = FALSE (its last call's INPUT1)
+      let afterHeader = drop 1 (dropWhile (not . isInfixOf "FAIL mastertool-xe/calls/three-calls:") (lines out))
+      lines out `shouldContain` ["FAIL mastertool-xe/calls/three-calls: %M0101: expected 2, got not reported"]
+      take 1 afterHeader `shouldBe` ["  OUTPUT1: expected false, got true"]
+    it "keeps the first difference in the JSON report's difference and lists all in differences" $ do
+      (_, out, _) <- stref (canned ++ ["--format", "json"])
+      let threeCalls = decode (BL.pack out) >>= field ["cases"] >>= \case
+            Array cs -> V.find (\c -> field ["id"] c == Just (String "mastertool-xe/calls/three-calls")) cs
+            _ -> Nothing
+          difference what expected actual = Object (KM.fromList [("what", String what), ("expected", String expected), ("actual", String actual)])
+      (threeCalls >>= field ["difference"]) `shouldBe` Just (difference "%M0101" "2" "not reported")
+      (threeCalls >>= field ["differences"]) `shouldBe` Just (Array (V.fromList [difference "%M0101" "2" "not reported", difference "OUTPUT1" "false" "true"]))
 
   describe "an engine that is not installed" $ do
     it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do

@@ -1,5 +1,6 @@
 module ConformanceJudgeSpec (spec) where
 
+import Data.List.NonEmpty (NonEmpty (..))
 import qualified Data.Map.Strict as M
 import Stref.Conformance.Case
 import Stref.Conformance.Protocol
@@ -29,9 +30,9 @@ spec = describe "Conformance judging" $ do
       judge (expecting [(m12, EInt 65535)]) (answered [("%M12", SNumber (-1))]) `shouldBe` Pass
     it "a different pattern fails with the operand, expected and actual value" $
       judge (expecting [(m12, EInt (-1))]) (answered [("%M0012", SNumber 65534)])
-        `shouldBe` Fail (Difference "%M0012" "-1" "65534")
+        `shouldBe` Fail (Difference "%M0012" "-1" "65534" :| [])
     it "an operand the engine did not report fails" $
-      judge (expecting [(m12, EInt 7)]) (answered []) `shouldBe` Fail (Difference "%M0012" "7" "not reported")
+      judge (expecting [(m12, EInt 7)]) (answered []) `shouldBe` Fail (Difference "%M0012" "7" "not reported" :| [])
     it "a %M answer out of 16-bit range does not match its low bits" $
       -- 65536 + 7 is no reading of a 16-bit pattern
       judge (expecting [(m12, EInt 7)]) (answered [("%M0012", SNumber 65543)]) `shouldSatisfy` isFail
@@ -53,24 +54,52 @@ spec = describe "Conformance judging" $ do
       judge emptyExpect (AnswerUnsupported "REAL") `shouldBe` Unsupported "REAL"
     it "a rejection where a run was expected fails on the verdict" $
       judge emptyExpect (AnswerRejected (Just 5) Nothing "Variable X was not declared.")
-        `shouldBe` Fail (Difference "verdict" "ok" "rejected at line 5: Variable X was not declared.")
+        `shouldBe` Fail (Difference "verdict" "ok" "rejected at line 5: Variable X was not declared." :| [])
     it "a rejection compares line and kind when the case states them" $ do
       let ex = emptyExpect {exReject = Just (ExpReject (Just 5) (Just "undeclared-variable"))}
       judge ex (AnswerRejected (Just 5) (Just "undeclared-variable") "m") `shouldBe` Pass
-      judge ex (AnswerRejected (Just 6) (Just "undeclared-variable") "m") `shouldBe` Fail (Difference "reject.line" "5" "6 (m)")
+      judge ex (AnswerRejected (Just 6) (Just "undeclared-variable") "m") `shouldBe` Fail (Difference "reject.line" "5" "6 (m)" :| [])
       -- an engine that does not know the project's kinds is not judged on them
       judge ex (AnswerRejected (Just 5) Nothing "m") `shouldBe` Pass
     it "a runtime error compares code, line and complements" $ do
       let ex = emptyExpect {exError = Just (ErrCode 2020 (Just 10) Nothing)}
           err l = AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport (Just 2020) Nothing (Just l) (Just (0, 0, 0)))}
       judge ex (err 10) `shouldBe` Pass
-      judge ex (err 11) `shouldBe` Fail (Difference "error.line" "10" "11")
+      judge ex (err 11) `shouldBe` Fail (Difference "error.line" "10" "11" :| [])
     it "error: none fails when the engine reports an error" $
       judge emptyExpect {exError = Just ErrNone} (AnswerRun VerdictOk emptyObservation {obError = Just (ErrorReport (Just 2015) Nothing (Just 3) Nothing)})
-        `shouldBe` Fail (Difference "error" "none" "error 2015 at line 3")
+        `shouldBe` Fail (Difference "error" "none" "error 2015 at line 3" :| [])
     it "outputs are compared by name" $
       judge emptyExpect {exOutputs = M.fromList [(2, True)]} (AnswerRun VerdictOk emptyObservation {obOutputs = M.fromList [("OUTPUT2", False)]})
-        `shouldBe` Fail (Difference "OUTPUT2" "true" "false")
+        `shouldBe` Fail (Difference "OUTPUT2" "true" "false" :| [])
+    it "every difference is listed, not only the first: verdict, error, operands, variables, outputs" $ do
+      let ex =
+            emptyExpect
+              { exOperands = M.fromList [(m12, EInt 7), (OpSimple KM 13, EInt 1), (OpSimple KM 14, EInt 3)]
+              , exVars = M.fromList [("P.X", EInt 5)]
+              , exOutputs = M.fromList [(2, True)]
+              , exError = Just ErrNone
+              }
+          answer =
+            AnswerRun VerdictRuntimeError emptyObservation
+              { obOperands = M.fromList [("%M0012", SNumber 8), ("%M0014", SNumber 3)]
+              , obVars = M.fromList [("P.X", SNumber 6)]
+              , obOutputs = M.fromList [("OUTPUT2", False)]
+              , obError = Just (ErrorReport (Just 2015) Nothing (Just 3) Nothing)
+              }
+      judge ex answer
+        `shouldBe` Fail
+          ( Difference "verdict" "ok" "runtime-error (error 2015 at line 3)"
+              :| [ Difference "error" "none" "error 2015 at line 3"
+                 , Difference "%M0012" "7" "8"
+                 , Difference "%M0013" "1" "not reported"
+                 , Difference "P.X" "5" "6"
+                 , Difference "OUTPUT2" "true" "false"
+                 ]
+          )
+    it "a rejection at another line and of another kind gives both differences" $
+      judge emptyExpect {exVerdict = Just ExpRejected, exReject = Just (ExpReject (Just 5) (Just "undeclared-variable"))} (AnswerRejected (Just 6) (Just "type-mismatch") "m")
+        `shouldBe` Fail (Difference "reject.line" "5" "6 (m)" :| [Difference "reject.kind" "undeclared-variable" "type-mismatch (m)"])
 
   describe "shards and filters" $ do
     it "every case index is in exactly one of N shards" $

@@ -6,6 +6,7 @@ module Engines.MatrixSpec (spec) where
 import Control.Monad (forM_)
 import qualified Data.Aeson as A
 import qualified Data.Aeson.KeyMap as KM
+import Data.List.NonEmpty (NonEmpty (..))
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -26,17 +27,17 @@ runs :: [MatrixRun]
 runs =
   [ MatrixRun "alpha" "Alpha engine" "1.0" "tecomat" $
       [ result "tecomat/strings/a" Pass
-      , result "tecomat/strings/b" (Fail (Difference "MAIN.x" "1" "2"))
+      , result "tecomat/strings/b" (Fail (Difference "MAIN.x" "1" "2" :| []))
       , result "tecomat/statements/c" Pass
       , result "tecomat/statements/d" Pass
       , result "tecomat/statements/e" (Unsupported "resets")
       ]
   , MatrixRun "beta" "Beta engine" "2.0" "tecomat" $
-      [ result "tecomat/strings/a" (Fail (Difference "verdict" "ok" "rejected at line 3: <bad> & \"odd\""))
+      [ result "tecomat/strings/a" (Fail (Difference "verdict" "ok" "rejected at line 3: <bad> & \"odd\"" :| []))
       , result "tecomat/strings/b" Pass
       , result "tecomat/statements/c" (EngineError "crashed </script>")
       , result "tecomat/statements/d" Pass
-      , result "tecomat/statements/e" (Fail (Difference "MAIN.y" "T#1s" "T#0ms"))
+      , result "tecomat/statements/e" (Fail (Difference "MAIN.y" "T#1s" "T#0ms" :| []))
       ]
   ]
 

@@ -15,6 +15,7 @@ module Stref.Conformance.Matrix
 import Data.Aeson (Value, object, (.=))
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Lazy as BL
+import Data.List.NonEmpty (NonEmpty (..))
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -62,7 +63,7 @@ matrixData date commit titles runs =
         , "result" .= outcomeName (resOutcome c)
         ]
           ++ case resOutcome c of
-            Fail d -> ["what" .= dWhat d, "expected" .= dExpected d, "actual" .= dActual d]
+            Fail (d :| _) -> ["what" .= dWhat d, "expected" .= dExpected d, "actual" .= dActual d]
             InvalidCase e -> ["actual" .= e]
             Unsupported e -> ["actual" .= e]
             EngineError e -> ["actual" .= e]

@@ -17,6 +17,7 @@ import Data.Aeson (Value, object, (.=))
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Lazy as BL
 import Data.List (foldl')
+import qualified Data.List.NonEmpty as NE
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -90,10 +91,11 @@ areaOf r = [maybe (T.takeWhile (/= '/') (resId r)) (\c -> caseDialect c <> "/" <
 rulesOf r = maybe [] caseRules (resCase r)
 featuresOf r = maybe [] caseFeatures (resCase r)
 
+-- | One line: for a failure, its first difference.
 detail :: Outcome -> Text
 detail = \case
   Pass -> ""
-  Fail d -> dWhat d <> ": expected " <> dExpected d <> ", got " <> dActual d
+  Fail ds -> differenceText (NE.head ds)
   InvalidCase e -> e
   Unsupported e -> e
   EngineError e -> e
@@ -119,6 +121,7 @@ textReport verbose rs =
         | resKnownFailure r || verbose -> ["SKIP " <> resId r <> ": " <> why]
         | otherwise -> []
       InvalidCase e -> ["INVALID " <> e]
+      o@(Fail ds) -> ("FAIL " <> resId r <> ": " <> detail o) : ["  " <> differenceText d | d <- NE.tail ds]
       o -> [T.toUpper (outcomeName o) <> " " <> resId r <> ": " <> detail o]
     -- rules and features are many: without @verbose@ only those with a
     -- case that did not pass are listed
@@ -156,6 +159,7 @@ jsonReport engine policies rs =
       , "by_feature" .= fmap totalsJson (groupTotals featuresOf rs)
       ]
   where
+    differenceJson d = object ["what" .= dWhat d, "expected" .= dExpected d, "actual" .= dActual d]
     caseJson r =
       object
         [ "id" .= resId r
@@ -163,8 +167,11 @@ jsonReport engine policies rs =
         , "result" .= outcomeName (resOutcome r)
         , "detail" .= detail (resOutcome r)
         , "difference" .= case resOutcome r of
-            Fail d -> object ["what" .= dWhat d, "expected" .= dExpected d, "actual" .= dActual d]
+            Fail ds -> differenceJson (NE.head ds)
             _ -> A.Null
+        , "differences" .= case resOutcome r of
+            Fail ds -> map differenceJson (NE.toList ds)
+            _ -> []
         , "invalid" .= case resOutcome r of
             InvalidCase _ -> True
             _ -> False

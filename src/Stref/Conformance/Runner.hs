@@ -13,6 +13,7 @@ module Stref.Conformance.Runner
   , defaultRunOptions
   , Outcome (..)
   , Difference (..)
+  , differenceText
   , CaseResult (..)
   , runCorpus
   , runOne
@@ -31,10 +32,12 @@ module Stref.Conformance.Runner
 import Control.Concurrent (forkIO)
 import Control.Concurrent.Async (async, cancel, wait, waitCatch)
 import Control.Exception (SomeAsyncException, SomeException, evaluate, fromException, throwIO, try)
-import Control.Monad (void, when)
+import Control.Monad (void)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Lazy as BL
 import Data.Char (toUpper)
+import Data.List.NonEmpty (NonEmpty)
+import qualified Data.List.NonEmpty as NE
 import Data.Maybe (fromMaybe, mapMaybe)
 import qualified Data.Map.Strict as M
 import qualified Data.Set as S
@@ -95,7 +98,7 @@ defaultRunOptions =
     , roMaxAnswerBytes = 16 * 1024 * 1024
     }
 
--- | The first difference between expectation and answer.
+-- | A difference between expectation and answer.
 data Difference = Difference
   { dWhat :: Text -- ^ @%M0012@, @verdict@, @error.code@, @OUTPUT1@, @P.X@
   , dExpected :: Text
@@ -105,7 +108,7 @@ data Difference = Difference
 
 data Outcome
   = Pass
-  | Fail Difference
+  | Fail (NonEmpty Difference) -- ^ every difference, in the order verdict, error, operands, variables, outputs
   | InvalidCase Text -- ^ the case file itself is malformed (counted as failed)
   | Unsupported Text
   | EngineError Text
@@ -194,7 +197,7 @@ runCorpus o corpus = do
           pure (CaseResult (caseId c) (caseFile c) (Just c) outcome' k (t1 - t0))
     known i = i `S.member` roKnownFailures o
     knownFailure = \case
-      Fail d -> Skipped ("known failure: " <> dWhat d <> ": expected " <> dExpected d <> ", got " <> dActual d)
+      Fail ds -> Skipped ("known failure: " <> T.intercalate "; " (map differenceText (NE.toList ds)))
       EngineError e -> Skipped ("known failure: engine-error: " <> e)
       InvalidCase e -> InvalidCase e
       other -> other
@@ -395,7 +398,7 @@ drainKeeping h keep = go 0 []
 
 -- * Judging
 
--- | Compare an answer with the expectation; the first difference fails.
+-- | Compare an answer with the expectation; every difference is reported.
 judge :: Expect -> Answer -> Outcome
 judge = judgeWith (\_ v s -> varMatches v s)
 
@@ -403,29 +406,27 @@ judge = judgeWith (\_ v s -> varMatches v s)
 judgeWith :: (Text -> ExpValue -> Scalar -> Bool) -> Expect -> Answer -> Outcome
 judgeWith matchVar ex = \case
   AnswerUnsupported r -> Unsupported r
-  AnswerRejected line kind msg -> case expectedVerdict ex of
-    ExpRejected -> either Fail (const Pass) $ do
+  AnswerRejected line kind msg -> failOn $ case expectedVerdict ex of
+    ExpRejected ->
       let rj = fromMaybe (ExpReject Nothing Nothing) (exReject ex)
-      case rjLine rj of
-        Just l | line /= Just l -> Left (Difference "reject.line" (showT l) (maybe "no line" showT line <> " (" <> msg <> ")"))
-        _ -> Right ()
-      case (rjKind rj, kind) of
-        (Just k, Just k') | k /= k' -> Left (Difference "reject.kind" k (k' <> " (" <> msg <> ")"))
-        _ -> Right ()
-    v -> Fail (Difference "verdict" (verdictText v) ("rejected" <> maybe "" (\l -> " at line " <> showT l) line <> ": " <> msg))
-  AnswerRun verdict ob -> either Fail (const Pass) $ do
+       in [Difference "reject.line" (showT l) (maybe "no line" showT line <> " (" <> msg <> ")") | Just l <- [rjLine rj], line /= Just l]
+            ++ [Difference "reject.kind" k (k' <> " (" <> msg <> ")") | (Just k, Just k') <- [(rjKind rj, kind)], k /= k']
+    -- a rejected program has no state to compare
+    v -> [Difference "verdict" (verdictText v) ("rejected" <> maybe "" (\l -> " at line " <> showT l) line <> ": " <> msg)]
+  AnswerRun verdict ob ->
     let expected = expectedVerdict ex
         actualV = case verdict of
           VerdictOk -> ExpOk
           VerdictRuntimeError -> ExpRuntimeError
-    when (expected /= actualV) $
-      Left (Difference "verdict" (verdictText expected) (verdictText actualV <> maybe "" (\e -> " (" <> errorText e <> ")") (obError ob)))
-    compareError (exError ex) (obError ob)
-    let answered = M.fromList (mapMaybe (\(t, s) -> either (const Nothing) (\op -> Just (op, s)) (parseOperand t)) (M.toList (obOperands ob)))
-    mapM_ (\(op, v) -> compareOperand op v (M.lookup op answered)) (M.toList (exOperands ex))
-    mapM_ (\(name, v) -> compareVar name v (lookupName name (M.union (obVars ob) (obOperands ob)))) (M.toList (exVars ex))
-    mapM_ (\(n, b) -> compareOutput n b (lookupName ("OUTPUT" <> showT n) (obOutputs ob))) (M.toList (exOutputs ex))
+        answered = M.fromList (mapMaybe (\(t, s) -> either (const Nothing) (\op -> Just (op, s)) (parseOperand t)) (M.toList (obOperands ob)))
+     in failOn $
+          [Difference "verdict" (verdictText expected) (verdictText actualV <> maybe "" (\e -> " (" <> errorText e <> ")") (obError ob)) | expected /= actualV]
+            ++ maybe [] pure (compareError (exError ex) (obError ob))
+            ++ mapMaybe (\(op, v) -> compareOperand op v (M.lookup op answered)) (M.toList (exOperands ex))
+            ++ mapMaybe (\(name, v) -> compareVar name v (lookupName name (M.union (obVars ob) (obOperands ob)))) (M.toList (exVars ex))
+            ++ mapMaybe (\(n, b) -> compareOutput n b (lookupName ("OUTPUT" <> showT n) (obOutputs ob))) (M.toList (exOutputs ex))
   where
+    failOn = maybe Pass Fail . NE.nonEmpty
     showT :: Show a => a -> Text
     showT = T.pack . show
     verdictText = \case
@@ -438,36 +439,41 @@ judgeWith matchVar ex = \case
     lookupName n m = case M.lookup n m of
       Just x -> Just x
       Nothing -> lookup (T.map toUpper n) [(T.map toUpper k, x) | (k, x) <- M.toList m]
+    -- one difference at most: the actual error is shown whole
     compareError expected actual = case (expected, actual) of
-      (Nothing, _) -> Right ()
-      (Just ErrNone, Nothing) -> Right ()
-      (Just ErrNone, Just e) -> Left (Difference "error" "none" (errorText e))
-      (Just (ErrCode c _ _), Nothing) -> Left (Difference "error" ("error " <> showT c) "none")
-      (Just (ErrKind k _), Nothing) -> Left (Difference "error" ("error " <> k) "none")
+      (Nothing, _) -> Nothing
+      (Just ErrNone, Nothing) -> Nothing
+      (Just ErrNone, Just e) -> Just (Difference "error" "none" (errorText e))
+      (Just (ErrCode c _ _), Nothing) -> Just (Difference "error" ("error " <> showT c) "none")
+      (Just (ErrKind k _), Nothing) -> Just (Difference "error" ("error " <> k) "none")
       (Just (ErrKind k l), Just e@(ErrorReport _ k' l' _))
-        | Just k /= k' -> Left (Difference "error.kind" k (errorText e))
-        | Just x <- l, l' /= Just x -> Left (Difference "error.line" (showT x) (maybe "not reported" showT l'))
-        | otherwise -> Right ()
+        | Just k /= k' -> Just (Difference "error.kind" k (errorText e))
+        | Just x <- l, l' /= Just x -> Just (Difference "error.line" (showT x) (maybe "not reported" showT l'))
+        | otherwise -> Nothing
       (Just (ErrCode c l comp), Just e@(ErrorReport c'' _ l' comp'))
-        | Just c /= c'' -> Left (Difference "error.code" (showT c) (errorText e))
-        | Just x <- l, l' /= Just x -> Left (Difference "error.line" (showT x) (maybe "not reported" showT l'))
-        | Just x <- comp, comp' /= Just x -> Left (Difference "error.comp" (showT x) (maybe "not reported" showT comp'))
-        | otherwise -> Right ()
+        | Just c /= c'' -> Just (Difference "error.code" (showT c) (errorText e))
+        | Just x <- l, l' /= Just x -> Just (Difference "error.line" (showT x) (maybe "not reported" showT l'))
+        | Just x <- comp, comp' /= Just x -> Just (Difference "error.comp" (showT x) (maybe "not reported" showT comp'))
+        | otherwise -> Nothing
     compareOutput n b = \case
-      Nothing -> Left (Difference ("OUTPUT" <> showT n) (boolText b) "not reported")
-      Just b' | b /= b' -> Left (Difference ("OUTPUT" <> showT n) (boolText b) (boolText b'))
-      _ -> Right ()
+      Nothing -> Just (Difference ("OUTPUT" <> showT n) (boolText b) "not reported")
+      Just b' | b /= b' -> Just (Difference ("OUTPUT" <> showT n) (boolText b) (boolText b'))
+      _ -> Nothing
     boolText b = if b then "true" else "false"
     compareOperand op v = \case
-      Nothing -> Left (Difference (renderOperand op) (renderExpValue v) "not reported")
+      Nothing -> Just (Difference (renderOperand op) (renderExpValue v) "not reported")
       Just s
-        | operandMatches op v s -> Right ()
-        | otherwise -> Left (Difference (renderOperand op) (renderExpValue v) (scalarText s))
+        | operandMatches op v s -> Nothing
+        | otherwise -> Just (Difference (renderOperand op) (renderExpValue v) (scalarText s))
     compareVar name v = \case
-      Nothing -> Left (Difference name (renderExpValue v) "not reported")
+      Nothing -> Just (Difference name (renderExpValue v) "not reported")
       Just s
-        | matchVar name v s -> Right ()
-        | otherwise -> Left (Difference name (renderExpValue v) (scalarText s))
+        | matchVar name v s -> Nothing
+        | otherwise -> Just (Difference name (renderExpValue v) (scalarText s))
+
+-- | @%M0012: expected 32767, got -32768@
+differenceText :: Difference -> Text
+differenceText d = dWhat d <> ": expected " <> dExpected d <> ", got " <> dActual d
 
 scalarText :: Scalar -> Text
 scalarText = \case
