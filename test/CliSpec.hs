@@ -242,6 +242,23 @@ spec = describe "the stref command line" $ do
       let afterHeader = drop 1 (dropWhile (not . isInfixOf "FAIL mastertool-xe/calls/three-calls:") (lines out))
       lines out `shouldContain` ["FAIL mastertool-xe/calls/three-calls: %M0101: expected 2, got not reported"]
       take 1 afterHeader `shouldBe` ["  OUTPUT1: expected false, got true"]
+    it "shows the rules a failing case cites, with their titles from RULES" $ do
+      (_, out, _) <- stref canned
+      let afterHeader = drop 1 (dropWhile (not . isInfixOf "FAIL mastertool-xe/calls/three-calls:") (lines out))
+      take 2 afterHeader `shouldBe` ["  OUTPUT1: expected false, got true", "  rule MT-EXEC-9: a module call runs the program once"]
+    it "--only-failures lists only the cases that fail the run, with the same totals" $ do
+      (_, full, _) <- stref (canned ++ ["--verbose", "--known-failures", "test/fixtures/known-failures-canned"])
+      (code, out, _) <- stref (canned ++ ["--verbose", "--known-failures", "test/fixtures/known-failures-canned", "--only-failures"])
+      code `shouldBe` ExitSuccess
+      -- the one that passes and the five known failures are listed without the option, not with it
+      lines full `shouldContain` ["PASS mastertool-xe/arith/int-add-saturates"]
+      length (filter (isInfixOf "SKIP ") (lines full)) `shouldBe` 5
+      filter (\l -> any (`isInfixOf` l) ["PASS ", "SKIP "]) (lines out) `shouldBe` []
+      last (lines out) `shouldBe` "1 passed, 0 failed, 0 unsupported, 0 engine-error, 5 skipped"
+      dropWhile (/= "by dialect:") (lines out) `shouldBe` dropWhile (/= "by dialect:") (lines full)
+      (code', out', _) <- stref (canned ++ ["--only-failures"])
+      code' `shouldBe` ExitFailure 1
+      filter (isInfixOf "FAIL ") (lines out') `shouldSatisfy` ((== 5) . length)
     it "keeps the first difference in the JSON report's difference and lists all in differences" $ do
       (_, out, _) <- stref (canned ++ ["--format", "json"])
       let threeCalls = decode (BL.pack out) >>= field ["cases"] >>= \case

@@ -45,6 +45,7 @@ data Opts = Opts
   , oKnown :: Maybe FilePath
   , oMaxAnswer :: Int
   , oVerbose :: Bool
+  , oOnlyFailures :: Bool
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -74,6 +75,7 @@ opts =
     <*> optional (strOption (long "known-failures" <> metavar "FILE" <> help "Case ids (one a line) whose failure is expected: reported as skipped"))
     <*> option positive (long "max-answer-bytes" <> metavar "N" <> value (16 * 1024 * 1024) <> showDefault <> help "Largest answer accepted from an external engine")
     <*> switch (long "verbose" <> short 'v' <> help "List every case, also passed and filtered-out ones")
+    <*> switch (long "only-failures" <> help "In the text report, list only the cases that fail the run (fail, engine-error, invalid); the totals are unchanged")
   where
     positive = eitherReader $ \s -> case readMaybe s of
       Just n | n >= 1 -> Right n
@@ -140,7 +142,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
                 staleKnown = [k | k <- S.toList knownSet, k `S.notMember` ids]
                 nowPassing = [resId r | r <- results, resKnownFailure r, Pass <- [resOutcome r]]
                 engineName = maybe "reference" T.pack (oEngine o)
-                text = textReport (oVerbose o) results
+                text = textReport TextOptions {toVerbose = oVerbose o, toOnlyFailures = oOnlyFailures o, toRuleTitles = ruleTitles corpus} results
                 report = case oFormat o of
                   FormatText -> BL.fromStrict (TE.encodeUtf8 text)
                   FormatJson -> jsonReport engineName (policyAssignments policies) results <> "\n"

@@ -11,6 +11,7 @@ module Stref.Conformance.Corpus
   , loadCorpusWith
   , findCaseFiles
   , readKnownFailures
+  , ruleTitles
   ) where
 
 import Control.Exception (IOException, evaluate, try)
@@ -45,6 +46,10 @@ data Corpus = Corpus
   , corpusRules :: M.Map Text [Rule] -- ^ dialect → its RULES index
   , corpusErrors :: [Text] -- ^ problems outside any case (a bad RULES file, a missing path)
   }
+
+-- | Every rule id of the corpus's indexes with its title.
+ruleTitles :: Corpus -> M.Map Text Text
+ruleTitles corpus = M.fromList [(ruleId r, ruleTitle r) | rs <- M.elems (corpusRules corpus), r <- rs]
 
 -- | Every @.st@ file under the given paths (a file is taken as it is).
 findCaseFiles :: [FilePath] -> IO ([Text], [FilePath])

@@ -7,6 +7,7 @@ module Stref.Conformance.Report
   , failing
   , summaryLine
   , groupTotals
+  , TextOptions (..)
   , textReport
   , jsonReport
   , totalsJson
@@ -101,20 +102,34 @@ detail = \case
   EngineError e -> e
   Skipped e -> e
 
+-- | What the text report shows.
+data TextOptions = TextOptions
+  { toVerbose :: Bool -- ^ list every case, and the totals of every rule and feature
+  , toOnlyFailures :: Bool -- ^ list only the cases that fail the run (fail, engine-error, invalid)
+  , toRuleTitles :: M.Map Text Text -- ^ rule id → title, from the RULES indexes
+  }
+
 -- | One line per case that did not pass (filtered-out cases are only
--- counted; with @verbose@ every case is listed), the totals per dialect,
--- area, rule and feature (rules and features only where a case did not
--- pass, unless @verbose@), and the summary line last.
-textReport :: Bool -> [CaseResult] -> Text
-textReport verbose rs =
+-- counted; with 'toVerbose' every case is listed, with 'toOnlyFailures'
+-- only those that fail the run), each further difference of a failure and
+-- the rules a failing case cites on lines of their own, then the totals
+-- per dialect, area, rule and feature (rules and features only where a
+-- case did not pass, unless verbose), and the summary line last.
+textReport :: TextOptions -> [CaseResult] -> Text
+textReport opts rs =
   T.unlines $
-    concatMap caseLine rs
+    concatMap caseLines rs
       ++ section True "by dialect" dialectOf
       ++ section True "by area" areaOf
       ++ section verbose "by rule" rulesOf
       ++ section verbose "by feature" featuresOf
       ++ [summaryLine (totals rs)]
   where
+    verbose = toVerbose opts
+    caseLines r
+      | toOnlyFailures opts && not (failing r) = []
+      | otherwise = caseLine r ++ (if failing r then map ruleLine (rulesOf r) else [])
+    ruleLine i = "  rule " <> i <> maybe "" (": " <>) (M.lookup i (toRuleTitles opts))
     caseLine r = case resOutcome r of
       Pass -> ["PASS " <> resId r | verbose]
       Skipped why
