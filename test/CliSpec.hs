@@ -268,6 +268,29 @@ spec = describe "the stref command line" $ do
       (threeCalls >>= field ["difference"]) `shouldBe` Just (difference "%M0101" "2" "not reported")
       (threeCalls >>= field ["differences"]) `shouldBe` Just (Array (V.fromList [difference "%M0101" "2" "not reported", difference "OUTPUT1" "false" "true"]))
 
+    it "puts the description, the file, the rules and every difference in JUnit's failure element" $ do
+      (_, out, _) <- stref (canned ++ ["--format", "junit"])
+      let element = takeWhile (not . isInfixOf "</failure>") (dropWhile (not . isInfixOf "<testcase name=\"three-calls\"") (lines out))
+      element `shouldSatisfy` any (isInfixOf "<failure message=\"%M0101: expected 2, got not reported\">description: three module calls with inputs and operand writes between them")
+      element `shouldContain` ["file: " ++ fixtureCorpus </> "mastertool-xe" </> "calls" </> "three-calls.st", "rule MT-EXEC-9: a module call runs the program once", "%M0101: expected 2, got not reported"]
+      out `shouldSatisfy` isInfixOf "OUTPUT1: expected false, got true</failure>"
+    it "does not report the cases outside a shard, not even as skipped" $ do
+      (code, out, _) <- stref ["conformance", fixtureCorpus, "--shard", "2/3", "--verbose"]
+      code `shouldBe` ExitSuccess
+      filter (\l -> any (`isInfixOf` l) ["PASS ", "SKIP "]) (lines out) `shouldBe` ["PASS mastertool-xe/arith/real-rounding", "PASS mastertool-xe/calls/named-vars"]
+      last (lines out) `shouldBe` "2 passed, 0 failed, 0 unsupported, 0 engine-error, 0 skipped"
+      (_, xml, _) <- stref ["conformance", fixtureCorpus, "--shard", "2/3", "--format", "junit"]
+      length (filter (isInfixOf "<testcase ") (lines xml)) `shouldBe` 2
+    it "counts a malformed case under its own area directory" $ do
+      (code, out, _) <- stref ["conformance", "test" </> "fixtures" </> "malformed", "--format", "json"]
+      code `shouldBe` ExitFailure 1
+      let areas = decode (BL.pack out) >>= field ["by_area"] >>= \case
+            Object o -> Just (map Key.toString (KM.keys o))
+            _ -> Nothing
+      areas `shouldBe` Just ["mastertool-xe/bad"]
+      (_, xml, _) <- stref ["conformance", "test" </> "fixtures" </> "malformed", "--format", "junit"]
+      xml `shouldSatisfy` isInfixOf "<testsuite name=\"mastertool-xe/bad\""
+
   describe "an engine that is not installed" $ do
     it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do
       bin <- strefBinary

@@ -146,7 +146,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
                 report = case oFormat o of
                   FormatText -> BL.fromStrict (TE.encodeUtf8 text)
                   FormatJson -> jsonReport engineName (policyAssignments policies) results <> "\n"
-                  FormatJunit -> junitReport results
+                  FormatJunit -> junitReport (ruleTitles corpus) results
             mapM_ (\k -> TIO.hPutStrLn stderr ("note: known failure " <> k <> " is not among the cases run")) (if null (oFilters o) && null (oFeatures o) && null (oRules o) && oShard o == Nothing then staleKnown else [])
             mapM_ (\k -> TIO.hPutStrLn stderr ("note: known failure " <> k <> " passes now; remove it from the list")) nowPassing
             case oOutput o of

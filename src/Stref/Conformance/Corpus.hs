@@ -12,6 +12,7 @@ module Stref.Conformance.Corpus
   , findCaseFiles
   , readKnownFailures
   , ruleTitles
+  , areaOfId
   ) where
 
 import Control.Exception (IOException, evaluate, try)
@@ -46,6 +47,15 @@ data Corpus = Corpus
   , corpusRules :: M.Map Text [Rule] -- ^ dialect → its RULES index
   , corpusErrors :: [Text] -- ^ problems outside any case (a bad RULES file, a missing path)
   }
+
+-- | The area of a case, @<dialect>/<area>@, read from its id as the loader
+-- makes ids: for a case that did not load, whose area is not otherwise
+-- known. A case directly in its dialect's directory has the empty area.
+areaOfId :: Text -> Text
+areaOfId i = case T.splitOn "/" i of
+  dialect : area : _ : _ -> dialect <> "/" <> area
+  dialect : _ -> dialect <> "/"
+  [] -> i
 
 -- | Every rule id of the corpus's indexes with its title.
 ruleTitles :: Corpus -> M.Map Text Text

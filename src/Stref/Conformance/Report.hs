@@ -25,6 +25,7 @@ import qualified Data.Text as T
 import qualified Data.Text.Encoding as TE
 import Numeric (showFFloat)
 import Stref.Conformance.Case
+import Stref.Conformance.Corpus (areaOfId)
 import Stref.Conformance.Runner
 
 data Totals = Totals
@@ -88,7 +89,7 @@ groupTotals keys = foldl' add M.empty
 
 dialectOf, areaOf, rulesOf, featuresOf :: CaseResult -> [Text]
 dialectOf r = [maybe (T.takeWhile (/= '/') (resId r)) caseDialect (resCase r)]
-areaOf r = [maybe (T.takeWhile (/= '/') (resId r)) (\c -> caseDialect c <> "/" <> caseArea c) (resCase r)]
+areaOf r = [maybe (areaOfId (resId r)) (\c -> caseDialect c <> "/" <> caseArea c) (resCase r)]
 rulesOf r = maybe [] caseRules (resCase r)
 featuresOf r = maybe [] caseFeatures (resCase r)
 
@@ -198,9 +199,12 @@ jsonReport engine policies rs =
 
 -- | JUnit XML: one testsuite per area, one testcase per case (classname the
 -- area with dots, name the case's slug); fail → @failure@, engine-error and
--- malformed cases → @error@, unsupported and skipped → @skipped@.
-junitReport :: [CaseResult] -> BL.ByteString
-junitReport rs =
+-- malformed cases → @error@, unsupported and skipped → @skipped@. The
+-- @message@ attribute holds the first difference or the error; the
+-- element's text the case's description, file and rules (with their titles)
+-- and every difference, so that a CI page shows what to look at.
+junitReport :: M.Map Text Text -> [CaseResult] -> BL.ByteString
+junitReport titles rs =
   BL.fromStrict . TE.encodeUtf8 . T.unlines $
     ["<?xml version=\"1.0\" encoding=\"UTF-8\"?>", "<testsuites name=\"stref conformance\"" <> counts rs <> ">"]
       ++ concatMap suite (M.toList bySuite)
@@ -227,12 +231,16 @@ junitReport rs =
       let slug = T.takeWhileEnd (/= '/') (resId r)
           classname = T.replace "/" "." (T.dropEnd (T.length slug + 1) (resId r))
           open = "    <testcase name=\"" <> esc slug <> "\" classname=\"" <> esc classname <> "\" time=\"" <> secs (resSeconds r) <> "\""
-          child tag msg = [open <> ">", "      <" <> tag <> " message=\"" <> esc (T.take 200 msg) <> "\">" <> esc msg <> "</" <> tag <> ">", "    </testcase>"]
+          child tag msg body = [open <> ">", "      <" <> tag <> " message=\"" <> esc (T.take 200 msg) <> "\">" <> esc (T.intercalate "\n" body) <> "</" <> tag <> ">", "    </testcase>"]
+          about =
+            ["description: " <> caseDescription c | Just c <- [resCase r]]
+              ++ ["file: " <> T.pack (resFile r)]
+              ++ ["rule " <> i <> maybe "" (": " <>) (M.lookup i titles) | i <- rulesOf r]
        in case resOutcome r of
             Pass -> [open <> "/>"]
-            o@(Fail _) -> child "failure" (detail o)
-            o@(InvalidCase _) -> child "error" ("invalid case: " <> detail o)
-            o@(EngineError _) -> child "error" ("engine-error: " <> detail o)
+            o@(Fail ds) -> child "failure" (detail o) (about ++ map differenceText (NE.toList ds))
+            o@(InvalidCase _) -> child "error" ("invalid case: " <> detail o) (about ++ [detail o])
+            o@(EngineError _) -> child "error" ("engine-error: " <> detail o) (about ++ ["engine-error: " <> detail o])
             o@(Unsupported _) -> [open <> ">", "      <skipped message=\"" <> esc ("unsupported: " <> detail o) <> "\"/>", "    </testcase>"]
             o@(Skipped _) -> [open <> ">", "      <skipped message=\"" <> esc (detail o) <> "\"/>", "    </testcase>"]
     esc = T.concatMap $ \case
