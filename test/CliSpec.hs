@@ -291,6 +291,38 @@ spec = describe "the stref command line" $ do
       (_, xml, _) <- stref ["conformance", "test" </> "fixtures" </> "malformed", "--format", "junit"]
       xml `shouldSatisfy` isInfixOf "<testsuite name=\"mastertool-xe/bad\""
 
+  describe "request: the request the runner sends for one case" $ do
+    let saturates = fixtureCorpus </> "mastertool-xe" </> "arith" </> "int-add-saturates.st"
+    it "prints it on one line, under the case's dialect preset and the --policy given" $ do
+      (code, out, err) <- stref ["request", saturates]
+      (code, err) `shouldBe` (ExitSuccess, "")
+      length (lines out) `shouldBe` 1
+      let j = decode (BL.pack out) :: Maybe Value
+      (j >>= field ["case"]) `shouldBe` Just (String "mastertool-xe/arith/int-add-saturates")
+      (j >>= field ["policies", "overflow"]) `shouldBe` Just (String "saturate")
+      (j >>= field ["plc", "init", "%M0010"]) `shouldBe` Just (Number 15000)
+      (_, wrapped, _) <- stref ["request", saturates, "--policy", "overflow=wrap"]
+      (decode (BL.pack wrapped) >>= field ["policies", "overflow"]) `shouldBe` Just (String "wrap")
+    it "is what `stref engine` answers: 15000 + 25000 saturates to 32767 (MT-OP-6)" $ do
+      bin <- strefBinary
+      (_, rq, _) <- stref ["request", saturates]
+      (code, answer, _) <- readProcessWithExitCode bin ["engine"] rq
+      code `shouldBe` ExitSuccess
+      (decode (BL.pack answer) >>= field ["operands", "%M0012"]) `shouldBe` Just (Number 32767)
+    it "names a malformed case's file and line, exit 1; a missing file, a directory or an unknown preset, exit 2" $ do
+      (code, out, err) <- stref ["request", "test" </> "fixtures" </> "malformed" </> "mastertool-xe" </> "bad" </> "bad-policy.st"]
+      (code, out) `shouldBe` (ExitFailure 1, "")
+      err `shouldSatisfy` isInfixOf "bad-policy.st:6: expect-if[0].when.overflow"
+      (code2, _, err2) <- stref ["request", "no-such-case.st"]
+      code2 `shouldBe` ExitFailure 2
+      err2 `shouldSatisfy` isInfixOf "no such file: no-such-case.st"
+      (code3, _, err3) <- stref ["request", fixtureCorpus]
+      code3 `shouldBe` ExitFailure 2
+      err3 `shouldSatisfy` isInfixOf "is a directory"
+      (code4, _, err4) <- stref ["request", saturates, "--preset", "nope"]
+      code4 `shouldBe` ExitFailure 2
+      err4 `shouldSatisfy` isInfixOf "unknown preset 'nope'"
+
   describe "an engine that is not installed" $ do
     it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do
       bin <- strefBinary
