@@ -13,7 +13,7 @@ import Data.Aeson (Value (..), decode)
 import qualified Data.Aeson.Key as Key
 import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString.Lazy.Char8 as BL
-import Data.List (intercalate, isInfixOf)
+import Data.List (intercalate, isInfixOf, isPrefixOf)
 import qualified Data.Vector as V
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
@@ -259,6 +259,16 @@ spec = describe "the stref command line" $ do
       (code', out', _) <- stref (canned ++ ["--only-failures"])
       code' `shouldBe` ExitFailure 1
       filter (isInfixOf "FAIL ") (lines out') `shouldSatisfy` ((== 5) . length)
+    it "--verbose shows, for a case an external engine failed, the request it was sent and its answer" $ do
+      (_, requestLine, _) <- stref ["request", fixtureCorpus </> "mastertool-xe" </> "calls" </> "three-calls.st"]
+      (_, out, _) <- stref (canned ++ ["--verbose"])
+      let block = takeWhile (\l -> "  " `isPrefixOf` l) (drop 1 (dropWhile (not . isInfixOf "FAIL mastertool-xe/calls/three-calls:") (lines out)))
+      drop 2 block
+        `shouldBe` [ "  request: " ++ concat (lines requestLine)
+                   , "  answer: {\"verdict\": \"ok\", \"operands\": {\"%M0012\": 32767, \"%M13.0\": true}, \"outputs\": {\"OUTPUT1\": true}, \"error\": null}"
+                   ]
+      (_, quiet, _) <- stref canned
+      filter (isInfixOf "  request: ") (lines quiet) `shouldBe` []
     it "keeps the first difference in the JSON report's difference and lists all in differences" $ do
       (_, out, _) <- stref (canned ++ ["--format", "json"])
       let threeCalls = decode (BL.pack out) >>= field ["cases"] >>= \case

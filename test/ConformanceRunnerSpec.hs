@@ -100,7 +100,7 @@ spec = describe "Conformance runner" $ do
     rs <- fixtures >>= runCorpus (external (engineScript "canned") 5)
     let known = S.fromList ["mastertool-xe/calls/div-zero"]
         rs' = [if resId r `S.member` known then r {resOutcome = Skipped "known failure"} else r | r <- rs]
-        xml = BLC.unpack (junitReport M.empty (rs' ++ [CaseResult "mastertool-xe/calls/broken" "f" Nothing (EngineError "crashed") False 0]))
+        xml = BLC.unpack (junitReport M.empty (rs' ++ [CaseResult "mastertool-xe/calls/broken" "f" Nothing (EngineError "crashed") False 0 Nothing]))
     forM_
       [ "<?xml version=\"1.0\" encoding=\"UTF-8\"?>"
       , "<testsuites name=\"stref conformance\" tests=\"7\" failures=\"4\" errors=\"1\" skipped=\"1\""

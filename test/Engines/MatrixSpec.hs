@@ -20,7 +20,7 @@ import System.Process (readProcessWithExitCode)
 import Test.Hspec
 
 result :: Text -> Outcome -> CaseResult
-result i o = CaseResult i ("conformance/" <> T.unpack i <> ".st") Nothing o False 0
+result i o = CaseResult i ("conformance/" <> T.unpack i <> ".st") Nothing o False 0 Nothing
 
 -- | Two engines, two areas; alpha passes 3 of 5 cases, beta 2.
 runs :: [MatrixRun]

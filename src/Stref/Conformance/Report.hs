@@ -129,7 +129,11 @@ textReport opts rs =
     verbose = toVerbose opts
     caseLines r
       | toOnlyFailures opts && not (failing r) = []
-      | otherwise = caseLine r ++ (if failing r then map ruleLine (rulesOf r) else [])
+      | otherwise = caseLine r ++ (if failing r then map ruleLine (rulesOf r) else []) ++ (if verbose then exchangeLines r else [])
+    -- what an external engine was asked and answered, for a case it failed
+    exchangeLines r = case resExchange r of
+      Nothing -> []
+      Just x -> ["  request: " <> xcRequest x, "  answer: " <> maybe "none" T.strip (xcAnswer x)]
     ruleLine i = "  rule " <> i <> maybe "" (": " <>) (M.lookup i (toRuleTitles opts))
     caseLine r = case resOutcome r of
       Pass -> ["PASS " <> resId r | verbose]

@@ -15,6 +15,7 @@ module Stref.Conformance.Runner
   , Difference (..)
   , differenceText
   , CaseResult (..)
+  , Exchange (..)
   , runCorpus
   , runOne
   , buildRequest
@@ -122,6 +123,14 @@ data CaseResult = CaseResult
   , resOutcome :: Outcome
   , resKnownFailure :: Bool -- ^ listed in the known-failures file
   , resSeconds :: Double
+  , resExchange :: Maybe Exchange -- ^ kept for a case an external engine failed
+  }
+  deriving (Eq, Show)
+
+-- | What went to an external engine and what came back, as written.
+data Exchange = Exchange
+  { xcRequest :: Text
+  , xcAnswer :: Maybe Text -- ^ 'Nothing': no answer was read (the engine failed, or took too long)
   }
   deriving (Eq, Show)
 
@@ -183,18 +192,18 @@ runCorpus o corpus = do
   if roJobs o <= 1 then mapM runEntry entries else inParallel (roJobs o) runEntry entries
   where
     runEntry = \case
-      Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known i) 0)
+      Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known i) 0 Nothing)
       Loaded c -> case selected o c of
-        Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known (caseId c)) 0)
+        Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known (caseId c)) 0 Nothing)
         Nothing -> do
           t0 <- getMonotonicTime
           -- whatever goes wrong while running one case ends only that case
           -- the outcome decided here, in the worker (not later, by the report)
-          outcome <- either (\e -> EngineError ("the runner failed on this case: " <> T.pack (show e))) id <$> trySync (runOne o c >>= evaluate)
+          (outcome, exchange) <- either (\e -> (EngineError ("the runner failed on this case: " <> T.pack (show e)), Nothing)) id <$> trySync (runCase o c >>= \(r, x) -> (,x) <$> evaluate r)
           t1 <- getMonotonicTime
           let k = known (caseId c)
               outcome' = if k then knownFailure outcome else outcome
-          pure (CaseResult (caseId c) (caseFile c) (Just c) outcome' k (t1 - t0))
+          pure (CaseResult (caseId c) (caseFile c) (Just c) outcome' k (t1 - t0) exchange)
     known i = i `S.member` roKnownFailures o
     knownFailure = \case
       Fail ds -> Skipped ("known failure: " <> T.intercalate "; " (map differenceText (NE.toList ds)))
@@ -211,15 +220,28 @@ trySync act = try act >>= \case
 
 -- | Run one case: build the request, ask the engine, judge the answer.
 runOne :: RunOptions -> Case -> IO Outcome
-runOne o c = case casePolicies o c of
-  Left e -> pure (InvalidCase e)
+runOne o c = fst <$> runCase o c
+
+-- | 'runOne', keeping the exchange with an external engine when the case
+-- failed or the engine misbehaved (only then: the request holds the whole
+-- source).
+runCase :: RunOptions -> Case -> IO (Outcome, Maybe Exchange)
+runCase o c = case casePolicies o c of
+  Left e -> pure (InvalidCase e, Nothing)
   Right pol -> do
     let ex = effectiveExpect pol c
         rq = buildRequest pol c ex
-    answer <- askEngine o rq
-    pure $ case answer of
-      Left e -> EngineError e
-      Right a -> judgeWith (varComparison pol c ex) ex a
+    (answer, written) <- converse o rq
+    let outcome = case answer of
+          Left e -> EngineError e
+          Right a -> judgeWith (varComparison pol c ex) ex a
+        exchange = case (roEngine o, outcome) of
+          (External _, Fail _) -> Just (Exchange (requestText rq) written)
+          (External _, EngineError _) -> Just (Exchange (requestText rq) written)
+          _ -> Nothing
+    pure (outcome, exchange)
+  where
+    requestText = TE.decodeUtf8 . BL.toStrict . encodeRequest
 
 -- | The policies a case runs under: its dialect's preset with the run's
 -- assignments, or the run's one record.
@@ -300,21 +322,26 @@ mastertoolRequest pol c ex =
 
 -- | Ask the engine; 'Left' is an engine error.
 askEngine :: RunOptions -> Request -> IO (Either Text Answer)
-askEngine o rq = case roEngine o of
+askEngine o rq = fst <$> converse o rq
+
+-- | 'askEngine', with the answer as an external engine wrote it.
+converse :: RunOptions -> Request -> IO (Either Text Answer, Maybe Text)
+converse o rq = case roEngine o of
   Reference overrides -> do
     let answer = referenceEngine overrides rq
     -- the timeout's own exception must not be caught as a failure: 'try'
     -- stays outside 'timeout'
     r <- trySync (timeout (micros (roTimeout o)) (evaluate (BL.length (encodeAnswer answer))))
-    pure $ case r of
+    pure . (,Nothing) $ case r of
       Left (e :: SomeException) -> Left ("the reference engine failed: " <> T.pack (show e))
       Right Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
       Right (Just _) -> Right answer
   External cmd -> do
     r <- runExternal cmd (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
-    pure $ r >>= \bytes -> case decodeAnswer (BL.fromStrict bytes) of
-      Left e -> Left ("the answer is not a valid stref-engine/1 answer: " <> T.pack e <> excerpt bytes)
-      Right a -> Right a
+    let decoded = r >>= \bytes -> case decodeAnswer (BL.fromStrict bytes) of
+          Left e -> Left ("the answer is not a valid stref-engine/1 answer: " <> T.pack e <> excerpt bytes)
+          Right a -> Right a
+    pure (decoded, either (const Nothing) (Just . TE.decodeUtf8With TE.lenientDecode) r)
   where
     excerpt b = " (answer began: " <> T.pack (show (BS.take 80 b)) <> ")"
 
