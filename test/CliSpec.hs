@@ -333,6 +333,28 @@ spec = describe "the stref command line" $ do
       code4 `shouldBe` ExitFailure 2
       err4 `shouldSatisfy` isInfixOf "unknown preset 'nope'"
 
+  describe "conformance: an engine that cannot be started stops the run" $ do
+    it "a command the shell does not find (status 127): one message, exit 2" $ do
+      (code, out, err) <- stref ["conformance", fixtureCorpus, "--engine", "no-such-engine-for-stref --serve"]
+      code `shouldBe` ExitFailure 2
+      out `shouldBe` ""
+      lines err `shouldSatisfy` ((== 1) . length)
+      err `shouldSatisfy` isInfixOf "the engine cannot be started: the first 3 cases ended with: the engine exited with status 127"
+      err `shouldSatisfy` isInfixOf "no-such-engine-for-stref: not found"
+    it "a script that does not exist (the same 'No such file' on every case): one message, exit 2" $ do
+      (code, _, err) <- stref ["conformance", fixtureCorpus, "--engine", "sh test/engines/no-such-script.sh", "-j", "2"]
+      code `shouldBe` ExitFailure 2
+      lines err `shouldSatisfy` ((== 1) . length)
+      err `shouldSatisfy` isInfixOf "no-such-script.sh: No such file"
+    it "a single case is enough to tell" $ do
+      (code, _, err) <- stref ["conformance", fixtureCorpus </> "mastertool-xe" </> "calls" </> "three-calls.st", "--engine", "no-such-engine-for-stref"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` isInfixOf "the engine cannot be started: the only case run ended with"
+    it "an engine that starts and then fails on every case is still reported case by case, exit 1" $ do
+      (code, out, _) <- stref ["conformance", fixtureCorpus, "--engine", engineScript "crash"]
+      code `shouldBe` ExitFailure 1
+      last (lines out) `shouldBe` "0 passed, 0 failed, 0 unsupported, 6 engine-error, 0 skipped"
+
   describe "an engine that is not installed" $ do
     it "conformance --engine matiec and the adapter say where stref looked, an unknown adapter is named: exit 2" $ do
       bin <- strefBinary

@@ -137,7 +137,9 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
             case unmatchedSelections options corpus of
               [] -> pure ()
               nothing -> mapM_ usage nothing >> exitWith (ExitFailure 2)
-            results <- runCorpus options corpus
+            results <- runCorpusUnlessEngineMissing options corpus >>= \case
+              Right rs -> pure rs
+              Left why -> usage (why <> "; check the command given to --engine: " <> maybe "" T.pack (oEngine o)) >>= exitWith
             let ids = S.fromList (map resId results)
                 staleKnown = [k | k <- S.toList knownSet, k `S.notMember` ids]
                 nowPassing = [resId r | r <- results, resKnownFailure r, Pass <- [resOutcome r]]

@@ -17,6 +17,8 @@ module Stref.Conformance.Runner
   , CaseResult (..)
   , Exchange (..)
   , runCorpus
+  , runCorpusUnlessEngineMissing
+  , engineCannotStart
   , runOne
   , buildRequest
   , judge
@@ -187,24 +189,102 @@ unmatchedSelections o corpus
 
 -- | Run the corpus's entries (after sharding) and return one result each.
 runCorpus :: RunOptions -> Corpus -> IO [CaseResult]
-runCorpus o corpus = do
-  let entries = [e | (k, e) <- zip [0 ..] (corpusEntries corpus), inShard (roShard o) k]
-  if roJobs o <= 1 then mapM runEntry entries else inParallel (roJobs o) runEntry entries
+runCorpus o corpus = runEntries o (shardEntries o corpus)
+
+-- | How many cases must all show that an external engine cannot be started
+-- before the run stops.
+casesProbed :: Int
+casesProbed = 3
+
+-- | 'runCorpus', but an external engine that cannot be started at all stops
+-- the run ('Left', with the error) instead of giving the same engine error
+-- for every case. The cases run one by one until one shows the engine
+-- working, or 'casesProbed' of them (or all, if fewer) show it missing;
+-- the rest run as 'runCorpus' runs them.
+runCorpusUnlessEngineMissing :: RunOptions -> Corpus -> IO (Either Text [CaseResult])
+runCorpusUnlessEngineMissing o corpus = case roEngine o of
+  Reference _ -> Right <$> runCorpus o corpus
+  External _ -> probe [] [] (shardEntries o corpus)
   where
-    runEntry = \case
-      Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known i) 0 Nothing)
-      Loaded c -> case selected o c of
-        Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known (caseId c)) 0 Nothing)
-        Nothing -> do
-          t0 <- getMonotonicTime
-          -- whatever goes wrong while running one case ends only that case
-          -- the outcome decided here, in the worker (not later, by the report)
-          (outcome, exchange) <- either (\e -> (EngineError ("the runner failed on this case: " <> T.pack (show e)), Nothing)) id <$> trySync (runCase o c >>= \(r, x) -> (,x) <$> evaluate r)
-          t1 <- getMonotonicTime
-          let k = known (caseId c)
-              outcome' = if k then knownFailure outcome else outcome
-          pure (CaseResult (caseId c) (caseFile c) (Just c) outcome' k (t1 - t0) exchange)
-    known i = i `S.member` roKnownFailures o
+    -- results so far (reversed), the engine errors of the cases run so far
+    probe done errors = \case
+      []
+        | not (null errors) -> pure (Left (missing errors))
+        | otherwise -> pure (Right (finished done))
+      e : rest -> do
+        r <- runEntryAsIs o e
+        case (runs o e, resOutcome r) of
+          (False, _) -> probe (r : done) errors rest
+          (True, EngineError err)
+            | Just _ <- engineCannotStart (err : errors) ->
+                if length errors + 1 >= casesProbed then pure (Left (missing (err : errors))) else probe (r : done) (err : errors) rest
+          _ -> Right . (finished (r : done) ++) <$> runEntries o rest
+    finished = map markKnown . reverse
+    missing errors =
+      "the engine cannot be started: " <> (if length errors == 1 then "the only case run" else "the first " <> T.pack (show (length errors)) <> " cases")
+        <> " ended with: " <> fromMaybe "" (engineCannotStart errors)
+
+-- | Do these engine errors, one per case, show an engine that cannot be
+-- started at all? Yes when the shell could not run the command (status 127,
+-- not found; 126, not executable) or the process could not be created, or
+-- when all are one same error that says a file is missing. The error to
+-- show is the answer.
+engineCannotStart :: [Text] -> Maybe Text
+engineCannotStart errors = case errors of
+  first : _
+    | all unstartable errors -> Just first
+    | all (== first) errors, any (`T.isInfixOf` T.toLower first) missingWords -> Just first
+  _ -> Nothing
+  where
+    unstartable e = any (`T.isPrefixOf` e) [exitedWith 127, exitedWith 126, cannotStart]
+    missingWords = ["not found", "no such file", "cannot open", "can't open", "cannot find", "permission denied"]
+
+exitedWith :: Int -> Text
+exitedWith n = "the engine exited with status " <> T.pack (show n)
+
+cannotStart :: Text
+cannotStart = "cannot start the engine"
+
+shardEntries :: RunOptions -> Corpus -> [Entry]
+shardEntries o corpus = [e | (k, e) <- zip [0 ..] (corpusEntries corpus), inShard (roShard o) k]
+
+runEntries :: RunOptions -> [Entry] -> IO [CaseResult]
+runEntries o entries
+  | roJobs o <= 1 = mapM run1 entries
+  | otherwise = inParallel (roJobs o) run1 entries
+  where
+    run1 e = markKnown <$> runEntryAsIs o e
+
+-- | Is the entry run against the engine (not malformed, not filtered out)?
+runs :: RunOptions -> Entry -> Bool
+runs o = \case
+  Loaded c -> selected o c == Nothing
+  Invalid {} -> False
+
+-- | Run one entry; a known failure is not yet marked ('markKnown').
+runEntryAsIs :: RunOptions -> Entry -> IO CaseResult
+runEntryAsIs o = \case
+  Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known o i) 0 Nothing)
+  Loaded c -> case selected o c of
+    Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known o (caseId c)) 0 Nothing)
+    Nothing -> do
+      t0 <- getMonotonicTime
+      -- whatever goes wrong while running one case ends only that case
+      -- the outcome decided here, in the worker (not later, by the report)
+      (outcome, exchange) <- either (\e -> (EngineError ("the runner failed on this case: " <> T.pack (show e)), Nothing)) id <$> trySync (runCase o c >>= \(r, x) -> (,x) <$> evaluate r)
+      t1 <- getMonotonicTime
+      pure (CaseResult (caseId c) (caseFile c) (Just c) outcome (known o (caseId c)) (t1 - t0) exchange)
+
+known :: RunOptions -> Text -> Bool
+known o i = i `S.member` roKnownFailures o
+
+-- | A known failure's failure or engine error is reported as skipped, with
+-- what went wrong.
+markKnown :: CaseResult -> CaseResult
+markKnown r
+  | resKnownFailure r = r {resOutcome = knownFailure (resOutcome r)}
+  | otherwise = r
+  where
     knownFailure = \case
       Fail ds -> Skipped ("known failure: " <> T.intercalate "; " (map differenceText (NE.toList ds)))
       EngineError e -> Skipped ("known failure: engine-error: " <> e)
@@ -357,7 +437,7 @@ runExternal :: String -> Double -> Int -> BL.ByteString -> IO (Either Text BS.By
 runExternal cmd seconds limit input = do
   started <- try (createProcess (shell cmd) {std_in = CreatePipe, std_out = CreatePipe, std_err = CreatePipe, create_group = True})
   case started of
-    Left (e :: SomeException) -> pure (Left ("cannot start the engine: " <> T.pack (show e)))
+    Left (e :: SomeException) -> pure (Left (cannotStart <> ": " <> T.pack (show e)))
     Right (Just hin, Just hout, Just herr, ph) -> do
       pid <- getPid ph
       let killGroup = case pid of
@@ -379,7 +459,7 @@ runExternal cmd seconds limit input = do
               ExitSuccess -> Right bytes
               ExitFailure n
                 | n < 0 -> Left ("the engine was killed by signal " <> T.pack (show (negate n)) <> stderrNote errText)
-                | otherwise -> Left ("the engine exited with status " <> T.pack (show n) <> stderrNote errText)
+                | otherwise -> Left (exitedWith n <> stderrNote errText)
       outcome <- timeout (micros seconds) (waitCatch conversation)
       -- kill whatever is left of the engine's group, then reap and close in
       -- the background (a read still blocked ends when the group is dead)
@@ -393,7 +473,7 @@ runExternal cmd seconds limit input = do
         Nothing -> Left ("no answer within " <> secondsText seconds)
         Just (Left e) -> Left ("talking to the engine failed: " <> T.pack (show e))
         Just (Right r) -> r
-    Right _ -> pure (Left "cannot start the engine: no pipes")
+    Right _ -> pure (Left (cannotStart <> ": no pipes"))
   where
     stderrNote t = if T.null (T.strip t) then "" else "; stderr: " <> T.strip t
     closeQuietly :: Handle -> IO ()
