@@ -1,7 +1,8 @@
 -- | @stref conformance [PATH...]@: run the conformance corpus against the
 -- reference interpreter or an external engine (conformance/README.md).
 -- Exit 1 when a case failed, a case file is malformed or an engine
--- misbehaved (known failures excepted); 2 on a usage error.
+-- misbehaved (known failures excepted); 2 on a usage error, a selection
+-- that matches no case, or an engine that cannot be started.
 module Cmd.Conformance (Cmd.Conformance.command) where
 
 import Cmd.PolicyOptions
@@ -74,7 +75,7 @@ opts =
     <*> optional (strOption (long "output" <> metavar "FILE" <> help "Write the report to FILE and the text summary to stdout"))
     <*> optional (strOption (long "known-failures" <> metavar "FILE" <> help "Case ids (one a line) whose failure is expected: reported as skipped"))
     <*> option positive (long "max-answer-bytes" <> metavar "N" <> value (16 * 1024 * 1024) <> showDefault <> help "Largest answer accepted from an external engine")
-    <*> switch (long "verbose" <> short 'v' <> help "List every case, also passed and filtered-out ones")
+    <*> switch (long "verbose" <> short 'v' <> help "List every case, also passed and filtered-out ones, and for a case an external engine failed the request and its answer")
     <*> switch (long "only-failures" <> help "In the text report, list only the cases that fail the run (fail, engine-error, invalid); the totals are unchanged")
   where
     positive = eitherReader $ \s -> case readMaybe s of
