@@ -50,6 +50,7 @@ module Stref.Policy
   , matiec
   , openplc
   , ironplc
+  , rusty
   , lookupPreset
   , PolicyInfo (..)
   , policyTable
@@ -452,10 +453,24 @@ ironplc =
     , pSubrange = SubrangeUnchecked -- an INT (0..10) takes 11 without an error
     }
 
+-- | RuSTy (plc, commit 8dc2c0e): its timers end when the elapsed time
+-- passes PT, a cycle after IEC's; STRING holds 80 characters; MOD by 0
+-- traps like a division; subranges unchecked; CTD's Q is CV <= 0
+-- (docs/engines.md).
+rusty :: Policies
+rusty =
+  tecomat
+    { pTimerQ = NextCycle -- TON(PT := T#30ms) at 10 ms: Q in the cycle at 40 ms, not 30
+    , pStringLength = 80 -- STRING is 81 bytes
+    , pModZero = ModZeroError -- SIGFPE, as for /
+    , pSubrange = SubrangeUnchecked -- no check is generated
+    , pDownCounterQ = AtMostZero -- CTD's Q stays TRUE below 0 (ctd-below-zero)
+    }
+
 -- | Named presets: each dialect is an entry here, not a fork of the code;
 -- so is each real engine's behaviour (docs/engines.md).
 presets :: [(Text, Policies)]
-presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto), ("matiec", matiec), ("openplc", openplc), ("ironplc", ironplc)]
+presets = [("mastertool-xe", mastertoolXE), ("tecomat", tecomat), ("nexto", nexto), ("matiec", matiec), ("openplc", openplc), ("ironplc", ironplc), ("rusty", rusty)]
 
 lookupPreset :: Text -> Maybe Policies
 lookupPreset n = lookup n presets

@@ -27,6 +27,7 @@ module Stref.Engines.Matiec
   , runAnswer
   , RunOutcome (..)
   , caseFile
+  , decodeRaw
   ) where
 
 import Data.Bits (shiftR, (.&.))
@@ -455,7 +456,7 @@ runAnswer pl = \case
       Just t ->
         let n = either (const 0) length (leaves ("", t))
             (mine, rest) = splitAt n raws
-         in case assemble t mine of
+         in case decodeRaw t mine of
               Just (v, []) -> ((path, valueScalar v) : acc, rest)
               _ -> (acc, rest)
       Nothing -> (acc, raws)
@@ -464,15 +465,18 @@ runAnswer pl = \case
       ObsLocated l -> Just (locationType l)
       ObsUnknown _ -> Nothing
 
--- | A value of a type from the raw leaves the driver printed.
-assemble :: Type -> [Text] -> Maybe (Value, [Text])
-assemble t raws = case t of
+-- | A value of a type from the raw leaves a driver printed: integers in
+-- decimal, REAL and LREAL as their bit patterns, the time types in
+-- nanoseconds, a string as its length and bytes. (The RuSTy adapter's
+-- driver prints the same.)
+decodeRaw :: Type -> [Text] -> Maybe (Value, [Text])
+decodeRaw t raws = case t of
   TArray bs et -> do
     let count = product [hi - lo + 1 | (lo, hi) <- bs]
     (xs, rest) <- many (fromInteger count) et raws
     Just (VArray bs (Seq.fromList xs), rest)
   TStruct _ fs -> do
-    (vs, rest) <- foldl' (\m (f, ft) -> m >>= \(acc, r) -> assemble ft r >>= \(v, r') -> Just (acc ++ [(key f, v)], r')) (Just ([], raws)) fs
+    (vs, rest) <- foldl' (\m (f, ft) -> m >>= \(acc, r) -> decodeRaw ft r >>= \(v, r') -> Just (acc ++ [(key f, v)], r')) (Just ([], raws)) fs
     Just (VStruct (M.fromList vs), rest)
   _ -> case raws of
     r : rest -> (\v -> (v, rest)) <$> scalar r
@@ -480,7 +484,7 @@ assemble t raws = case t of
   where
     many 0 _ rs = Just ([], rs)
     many n et rs = do
-      (v, rs') <- assemble et rs
+      (v, rs') <- decodeRaw et rs
       (vs, rs'') <- many (n - 1 :: Int) et rs'
       Just (v : vs, rs'')
     int r = case TR.signed TR.decimal r of

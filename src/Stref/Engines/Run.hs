@@ -23,6 +23,7 @@ import Stref.Conformance.Protocol
 import Stref.Engine (requestPolicies)
 import qualified Stref.Engines.Ironplc as Ironplc
 import qualified Stref.Engines.Matiec as Matiec
+import qualified Stref.Engines.Rusty as Rusty
 import Stref.Policy (Model (..), Policies (..))
 import System.Directory
 import System.Environment (lookupEnv)
@@ -42,13 +43,14 @@ data Engine = Engine
   }
 
 -- | Which adapter drives it.
-data Adapter = MatiecAdapter | IronplcAdapter
+data Adapter = MatiecAdapter | IronplcAdapter | RustyAdapter
 
 engines :: [Engine]
 engines =
   [ Engine "matiec" "MATIEC (iec2c of Beremiz)" "STREF_MATIEC" (Just "iec2c") MatiecAdapter
   , Engine "openplc" "OpenPLC's fork of MATIEC" "STREF_OPENPLC" Nothing MatiecAdapter
   , Engine "ironplc" "IronPLC (ironplcc and ironplcvm)" "STREF_IRONPLC" (Just "ironplcc") IronplcAdapter
+  , Engine "rusty" "RuSTy (plc and its iec61131std library)" "STREF_RUSTY" (Just "plc") RustyAdapter
   ]
 
 engineByName :: Text -> Maybe Engine
@@ -57,7 +59,7 @@ engineByName n = case filter ((== T.toLower n) . engName) engines of
   [] -> Nothing
 
 -- | Where an engine's tools are.
-data Tools = MatiecTools Matiec | IronplcTools Ironplc
+data Tools = MatiecTools Matiec | IronplcTools Ironplc | RustyTools Rusty
 
 data Matiec = Matiec
   { tCompiler :: FilePath -- ^ iec2c
@@ -71,11 +73,19 @@ data Ironplc = Ironplc
   , iVm :: FilePath -- ^ ironplcvm
   }
 
+data Rusty = Rusty
+  { rPlc :: FilePath -- ^ plc
+  , rLib :: FilePath -- ^ the directory of libiec61131std.so
+  , rInclude :: FilePath -- ^ the directory of the library's ST declarations
+  , rCc :: FilePath -- ^ the C compiler that links the driver
+  }
+
 -- | The tools found, as @stref adapter --check@ shows them.
 toolsText :: Tools -> Text
 toolsText = \case
   MatiecTools m -> T.pack (tCompiler m)
   IronplcTools i -> T.pack (iCompiler i) <> ", " <> T.pack (iVm i)
+  RustyTools r -> T.pack (rPlc r) <> ", " <> T.pack (rLib r) <> ", " <> T.pack (rInclude r)
 
 -- | The engine's tools, or why it is not there. The variable names the
 -- directory that holds the tools (or the compiler itself); without it, the
@@ -97,10 +107,13 @@ findTools e = do
         else case engAdapter e of
           MatiecAdapter -> matiecTools c
           IronplcAdapter -> ironplcTools c
+          RustyAdapter -> rustyTools c
   where
     (compilerName, extra) = case engAdapter e of
       MatiecAdapter -> ("iec2c", " and its lib/")
       IronplcAdapter -> ("ironplcc", " and ironplcvm")
+      -- RuSTy's installation is a tree: bin/plc beside lib/ and include/
+      RustyAdapter -> ("bin/plc", ", lib/libiec61131std.so and include/*.st")
 
 -- | iec2c with the @lib@ beside it; @STREF_MATIEC_LIB@ overrides the
 -- library, @STREF_CC@ the C compiler (default @cc@).
@@ -126,10 +139,28 @@ ironplcTools c = do
     Just v -> Right (IronplcTools (Ironplc c v))
     Nothing -> Left ("no ironplcvm beside " <> T.pack c <> " nor on PATH: IronPLC's VM runs the compiled programs")
 
+-- | plc in a tree with lib/libiec61131std.so and include/ (the library's
+-- ST declarations) beside its bin/; @STREF_CC@ the C compiler.
+rustyTools :: FilePath -> IO (Either Text Tools)
+rustyTools c = do
+  let root = takeDir (takeDir c)
+      lib = root </> "lib"
+      include = root </> "include"
+  libOk <- doesFileExist (lib </> "libiec61131std.so")
+  incOk <- doesDirectoryExist include
+  ccVar <- lookupEnv "STREF_CC"
+  cc <- maybe (maybe "cc" id <$> findExecutable "cc") pure ccVar
+  pure $
+    if not libOk || not incOk
+      then Left ("no lib/libiec61131std.so and include/ beside " <> T.pack c <> "'s bin/: RuSTy's standard library is part of its installation")
+      else Right (RustyTools (Rusty c lib include cc))
+
 takeDir :: FilePath -> FilePath
-takeDir p = case reverse (dropWhile (/= '/') (reverse p)) of
+takeDir p = case reverse (dropWhile (/= '/') (reverse (dropTrailing p))) of
   "" -> "."
-  d -> d
+  d -> dropTrailing d
+  where
+    dropTrailing q = if length q > 1 && last q == '/' then init q else q
 
 -- | What the engine's compiler says of its version.
 engineVersion :: Tools -> IO Text
@@ -137,6 +168,7 @@ engineVersion t = do
   let (exe, args) = case t of
         MatiecTools m -> (tCompiler m, ["-v"])
         IronplcTools i -> (iCompiler i, ["version"])
+        RustyTools r -> (rPlc r, ["--version"])
   r <- try (readProcessWithExitCode exe args "")
   pure $ case r of
     Left (_ :: SomeException) -> "version unknown"
@@ -154,13 +186,17 @@ answerWith tools rq = case requestPolicies [] rq of
     | otherwise -> case tools of
         MatiecTools m -> matiecAnswer m pol rq
         IronplcTools i -> ironplcAnswer i pol rq
+        RustyTools r -> rustyAnswer r pol rq
 
 -- | Messages name files by their place in the scratch directory and the
 -- engine's library, not by this machine's paths.
 scrubAnswer :: [(FilePath, Text)] -> Answer -> Answer
 scrubAnswer places = \case
-  AnswerRejected l k m -> AnswerRejected l k (T.take 600 (foldr (\(p, r) -> T.replace (T.pack p) r) m places))
+  AnswerRejected l k m -> AnswerRejected l k (scrub m)
+  AnswerUnsupported m -> AnswerUnsupported (scrub m)
   a -> a
+  where
+    scrub m = T.take 600 (foldr (\(p, r) -> T.replace (T.pack p) r) m places)
 
 ------------------------------------------------------------------------------
 -- MATIEC
@@ -237,7 +273,51 @@ ironplcAnswer tools pol rq = withScratch $ \dir -> do
           Nothing -> Ironplc.TimedOut
           Just (rc, o, e) -> Ironplc.Finished (case rc of ExitSuccess -> 0; ExitFailure n -> n) (T.pack o) (T.pack e)
 
--- | How long iec2c may take on one program (it can loop on some input).
+------------------------------------------------------------------------------
+-- RuSTy
+
+rustyAnswer :: Rusty -> Policies -> Request -> IO (Either Text Answer)
+rustyAnswer tools pol rq = case Rusty.plan pol rq of
+  Left why -> pure (Right (AnswerUnsupported why))
+  Right pl -> withScratch $ \dir -> do
+    let source = dir </> T.unpack Rusty.caseFile
+        probes = dir </> T.unpack Rusty.probeFile
+        object = dir </> "case.o"
+        withProbes = not (T.null (Rusty.planProbes pl))
+    TIO.writeFile source (Rusty.planSource pl)
+    TIO.writeFile probes (Rusty.planProbes pl)
+    let args = ["-c", source] ++ [probes | withProbes] ++ ["-i", rInclude tools </> "*.st", "-o", object, "--error-format", "clang"]
+    compiled <- timeout (compileSeconds * 1000000) (readCreateProcessWithExitCode (proc (rPlc tools) args) "")
+    fmap (scrubAnswer [(rInclude tools, "<include>"), (dir, "<scratch>")]) <$> case compiled of
+      Nothing -> pure (Right (AnswerRejected Nothing Nothing ("plc ran for more than " <> T.pack (show compileSeconds) <> " s on this program without finishing")))
+      Just (ExitFailure n, _, err) -> do
+        writeFile (dir </> "plc.err") err
+        case Rusty.compileAnswer n (T.pack err) of
+          -- an error plc does not place: if the case compiles without the
+          -- probes, the driver's access to a variable is what failed
+          AnswerRejected Nothing _ m | withProbes -> do
+            alone <- timeout (compileSeconds * 1000000) (readCreateProcessWithExitCode (proc (rPlc tools) (["-c", source, "-i", rInclude tools </> "*.st", "-o", object, "--error-format", "clang"])) "")
+            pure . Right $ case alone of
+              Just (ExitSuccess, _, _) -> AnswerUnsupported ("plc compiles the case but not the driver's access to the variables it observes: " <> m)
+              _ -> AnswerRejected Nothing Nothing m
+          a -> pure (Right a)
+      Just (ExitSuccess, _, _) -> case Rusty.planRun pl of
+        Left why -> pure (Right (AnswerUnsupported why))
+        Right r -> do
+          TIO.writeFile (dir </> "stref_driver.c") (Rusty.driverSource r)
+          let program = dir </> "program"
+          (ldRc, _, ldErr) <- readCreateProcessWithExitCode (proc (rCc tools) ["-w", "-no-pie", "-O0", dir </> "stref_driver.c", object, "-L", rLib tools, "-liec61131std", "-Wl,-rpath," <> rLib tools, "-lm", "-o", program]) ""
+          case ldRc of
+            -- a POU named like a C library function, or one plc left undefined
+            ExitFailure _ -> pure (Right (AnswerRejected Nothing Nothing ("the object plc compiled does not link with the driver: " <> linkErrors ldErr)))
+            ExitSuccess -> do
+              out <- timeout (10 * 1000000) (readCreateProcessWithExitCode (proc program []) "")
+              mapM_ (\(_, o, _) -> writeFile (dir </> "program.out") o) out
+              pure . Right . Rusty.runAnswer r $ case out of
+                Nothing -> Rusty.TimedOut
+                Just (_, o, _) -> Rusty.Finished (T.pack o)
+
+-- | How long a compiler may take on one program (iec2c can loop on some input).
 compileSeconds :: Int
 compileSeconds = 20
 
