@@ -16,10 +16,10 @@ import Stref.Conformance.Case
 import Stref.Conformance.Protocol
 import Stref.Conformance.Runner (Outcome (..), buildRequest, judgeWith, varComparison)
 import qualified Stref.Engines.Ironplc as Ironplc
-import Stref.Engines.Run (answerWith, engineByName, findTools)
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.IEC.Values (Value (..))
 import Stref.Policy (Policies, ironplc, nexto, tecomat)
+import Support.EngineFixture (fixtureCase, liveTests)
 import Support.Iec (runUnit)
 import System.Directory (doesFileExist)
 import System.FilePath ((<.>), (</>))
@@ -31,7 +31,7 @@ dir = "test" </> "engines" </> "ironplc"
 -- | A recorded case: its request and plan.
 load :: String -> IO (Case, Request, Ironplc.Plan)
 load name = do
-  (c, rq) <- loadWith tecomat (dir </> name <.> "st") name
+  (c, rq) <- fixtureCase dir name
   pure (c, rq, Ironplc.plan tecomat rq)
 
 loadWith :: Policies -> FilePath -> String -> IO (Case, Request)
@@ -160,14 +160,4 @@ spec = describe "the IronPLC adapter" $ do
       runUnit ironplc src 1 "MAIN.cut" `shouldBe` Right (VInt INT 1)
       runUnit ironplc src 1 "MAIN.lvl" `shouldBe` Right (VInt INT 11)
       runUnit tecomat src 1 "MAIN.lvl" `shouldBe` Right (VInt INT 0) -- the store is a subrange error
-  describe "live, with IronPLC installed (STREF_IRONPLC or ironplcc on PATH)" $
-    forM_ cases $ \name ->
-      it (name <> ": the engine answers as recorded") $ do
-        found <- maybe (pure (Left "no adapter")) findTools (engineByName "ironplc")
-        case found of
-          Left why -> pendingWith ("skipped: " <> T.unpack why)
-          Right tools -> do
-            (_, rq, _) <- load name
-            live <- answerWith tools rq
-            recorded <- recordedAnswer name
-            live `shouldBe` Right recorded
+  liveTests "ironplc" "IronPLC (STREF_IRONPLC or ironplcc on PATH)" cases (fmap (\(_, rq, _) -> rq) . load) recordedAnswer

@@ -13,12 +13,12 @@ import qualified Data.Text as T
 import qualified Data.Text.IO as TIO
 import Stref.Conformance.Case
 import Stref.Conformance.Protocol
-import Stref.Conformance.Runner (Outcome (..), buildRequest, judgeWith, varComparison)
+import Stref.Conformance.Runner (Outcome (..), judgeWith, varComparison)
 import qualified Stref.Engines.Matiec as Matiec
-import Stref.Engines.Run (answerWith, engineByName, findTools)
 import Stref.IEC.Types (Elem (..))
 import Stref.IEC.Values (Value (..))
 import Stref.Policy (matiec, openplc, tecomat)
+import Support.EngineFixture (fixtureCase, liveTests)
 import Support.Iec (runUnit)
 import System.Directory (doesFileExist)
 import System.FilePath ((<.>), (</>))
@@ -30,9 +30,7 @@ dir = "test" </> "engines" </> "matiec"
 -- | A recorded case: its request and plan.
 load :: String -> IO (Case, Request, Matiec.Plan)
 load name = do
-  src <- TIO.readFile (dir </> name <.> "st")
-  c <- either (fail . T.unpack) pure (parseCase (dir </> name <.> "st") (CaseOrigin ("tecomat/engine/" <> T.pack name) "tecomat" "engine") (const True) src)
-  let rq = buildRequest tecomat c (effectiveExpect tecomat c)
+  (c, rq) <- fixtureCase dir name
   pl <- either (fail . T.unpack) pure (Matiec.plan tecomat rq)
   pure (c, rq, pl)
 
@@ -136,17 +134,7 @@ spec = describe "the MATIEC adapter" $ do
       runUnit matiec src 3 "MAIN.falls" `shouldBe` Right (VInt INT 1)
       runUnit openplc src 3 "MAIN.falls" `shouldBe` Right (VInt INT 0)
       fmap (\case VString t -> T.length t; _ -> 0) (runUnit matiec src 1 "MAIN.txt") `shouldBe` Right 126
-  describe "live, with MATIEC installed (STREF_MATIEC or iec2c on PATH)" $
-    forM_ cases $ \name ->
-      it (name <> ": the engine answers as recorded") $ do
-        found <- maybe (pure (Left "no adapter")) findTools (engineByName "matiec")
-        case found of
-          Left why -> pendingWith ("skipped: " <> T.unpack why)
-          Right tools -> do
-            (_, rq, _) <- load name
-            live <- answerWith tools rq
-            recorded <- recordedAnswer name
-            live `shouldBe` Right recorded
+  liveTests "matiec" "MATIEC (STREF_MATIEC or iec2c on PATH)" cases (fmap (\(_, rq, _) -> rq) . load) recordedAnswer
   where
     errKind :: Answer -> Maybe Text
     errKind = \case

@@ -15,9 +15,9 @@ import Stref.Conformance.Case
 import Stref.Conformance.Protocol
 import Stref.Conformance.Runner (Outcome (..), buildRequest, judgeWith, varComparison)
 import qualified Stref.Engines.Rusty as Rusty
-import Stref.Engines.Run (answerWith, engineByName, findTools)
 import Stref.IEC.Values (Value (..))
 import Stref.Policy (rusty, tecomat)
+import Support.EngineFixture (fixtureCase, liveTests)
 import Support.Iec (runUnit)
 import System.Directory (doesFileExist)
 import System.FilePath ((<.>), (</>))
@@ -28,9 +28,7 @@ dir = "test" </> "engines" </> "rusty"
 
 load :: String -> IO (Case, Request, Rusty.Plan)
 load name = do
-  src <- TIO.readFile (dir </> name <.> "st")
-  c <- either (fail . T.unpack) pure (parseCase (dir </> name <.> "st") (CaseOrigin ("tecomat/engine/" <> T.pack name) "tecomat" "engine") (const True) src)
-  let rq = buildRequest tecomat c (effectiveExpect tecomat c)
+  (c, rq) <- fixtureCase dir name
   pl <- either (fail . T.unpack) pure (Rusty.plan tecomat rq)
   pure (c, rq, pl)
 
@@ -125,16 +123,6 @@ spec = describe "the RuSTy adapter" $ do
       runUnit rusty src 5 "MAIN.done" `shouldBe` Right (VBool True)
       runUnit tecomat src 4 "MAIN.done" `shouldBe` Right (VBool True)
       fmap (\case VString t -> T.length t; _ -> 0) (runUnit rusty src 1 "MAIN.txt") `shouldBe` Right 80
-  describe "live, with RuSTy installed (STREF_RUSTY or plc on PATH)" $
-    forM_ cases $ \name ->
-      it (name <> ": the engine answers as recorded") $ do
-        found <- maybe (pure (Left "no adapter")) findTools (engineByName "rusty")
-        case found of
-          Left why -> pendingWith ("skipped: " <> T.unpack why)
-          Right tools -> do
-            (_, rq, _) <- load name
-            live <- answerWith tools rq
-            recorded <- recordedAnswer name
-            live `shouldBe` Right recorded
+  liveTests "rusty" "RuSTy (STREF_RUSTY or plc on PATH)" cases (fmap (\(_, rq, _) -> rq) . load) recordedAnswer
   where
     (<&&>) f g x = f x && g x

@@ -153,6 +153,11 @@ spec = describe "the nexto dialect" $ do
       runUnit nexto natural 1 "MAIN.off" `shouldBe` Right (VInt DWORD 4)
     it "a pack_mode other than 0, 1, 2, 4, 8 is rejected" $
       rejectKind nexto "{attribute 'pack_mode' := '3'}\nTYPE Rec : STRUCT flag : BOOL; END_STRUCT END_TYPE\nPROGRAM MAIN\nVAR r1 : Rec; END_VAR\nr1.flag := TRUE;\nEND_PROGRAM\n" `shouldBe` Just ("value-out-of-limits", 2)
+  describe "MUX (NX-OP-67)" $
+    it "computes only the input K selects; under index-out-of-range = clamp, the one the clamped K selects" $ do
+      runMain nexto "VAR x, pick : INT; END_VAR pick := 1; x := MUX(pick, 10, 20, 30);" 1 "x" `shouldBe` Right (VInt INT 20)
+      runMain nexto {pIndexOutOfRange = IndexClamp} "VAR x, pick : INT; END_VAR pick := 7; x := MUX(pick, 10, 20, 30);" 1 "x" `shouldBe` Right (VInt INT 30)
+      runMain nexto {pIndexOutOfRange = IndexClamp} "VAR x, pick : INT; END_VAR pick := -2; x := MUX(pick, 10, 20, 30);" 1 "x" `shouldBe` Right (VInt INT 10)
   describe "VAR_CONFIG (NX-VAR-14, NX-VAR-15)" $ do
     let unit body = "FUNCTION_BLOCK Relay\nVAR\n  xIn AT %I* : BOOL;\n  xOut AT %Q* : BOOL;\nEND_VAR\nxOut := xIn;\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR\n  rl : Relay;\n  img AT %QX0.2 : BOOL;\n  sw AT %IX0.5 : BOOL;\n  early : BOOL;\nEND_VAR\n" <> body <> "\nEND_PROGRAM\nVAR_CONFIG\n  MAIN.rl.xIn AT %IX0.5 : BOOL;\n  MAIN.rl.xOut AT %QX0.2 : BOOL;\nEND_VAR\n"
     it "an input placed by VAR_CONFIG is read before the task, an output written to the image after it" $ do

@@ -28,6 +28,7 @@ module Stref.Engines.Matiec
   , RunOutcome (..)
   , caseFile
   , decodeRaw
+  , driverAnswer
   ) where
 
 import Data.Bits (shiftR, (.&.))
@@ -433,25 +434,8 @@ data RunOutcome
 
 -- | The answer from the driver's output.
 runAnswer :: Plan -> RunOutcome -> Answer
-runAnswer pl = \case
-  TimedOut -> AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport Nothing (Just "watchdog") Nothing Nothing)}
-  Finished out ->
-    let ls = T.lines out
-        trap = case [T.words (T.drop 5 l) | l <- ls, "trap " `T.isPrefixOf` l] of
-          [s, _] : _ -> Just (signalKind s)
-          _ -> Nothing
-        raws = [T.drop 2 l | l <- ls, "= " `T.isPrefixOf` l]
-        ended = "end" `elem` ls
-        vars = M.fromList (fst (foldl' decodeOne ([], raws) (planObserved pl)))
-        err = (\k -> ErrorReport Nothing (Just k) Nothing Nothing) <$> trap
-     in if ended
-          then AnswerRun (maybe VerdictOk (const VerdictRuntimeError) trap) (Observation M.empty vars M.empty err)
-          else AnswerRun VerdictRuntimeError emptyObservation {obError = Just (ErrorReport Nothing (Just (fromMaybe "crash" trap)) Nothing Nothing)}
+runAnswer pl = driverAnswer (\raws -> M.fromList (fst (foldl' decodeOne ([], raws) (planObserved pl))))
   where
-    signalKind s
-      | s == "8" = "division-by-zero" -- SIGFPE: the integer division traps
-      | s == "14" = "watchdog" -- SIGALRM: the cycles ran past the watchdog
-      | otherwise = "crash"
     decodeOne (acc, raws) (path, o) = case typeOf o of
       Just t ->
         let n = either (const 0) length (leaves ("", t))
@@ -464,6 +448,29 @@ runAnswer pl = \case
       ObsVar _ t -> Just t
       ObsLocated l -> Just (locationType l)
       ObsUnknown _ -> Nothing
+
+-- | The answer from the output of a driver of stref's own (the MATIEC and
+-- the RuSTy drivers print alike): @trap SIGNAL CYCLE@ when a signal stopped
+-- the cycles, a @= RAW@ line per leaf of the observed values (which the
+-- caller decodes), and @end@. Without @end@ the driver itself died.
+driverAnswer :: ([Text] -> M.Map Text Scalar) -> RunOutcome -> Answer
+driverAnswer decode = \case
+  TimedOut -> AnswerRun VerdictRuntimeError emptyObservation {obError = Just (report "watchdog")}
+  Finished out ->
+    let ls = T.lines out
+        trap = case [T.words (T.drop 5 l) | l <- ls, "trap " `T.isPrefixOf` l] of
+          [s, _] : _ -> Just (signalKind s)
+          _ -> Nothing
+        vars = decode [T.drop 2 l | l <- ls, "= " `T.isPrefixOf` l]
+     in if "end" `elem` ls
+          then AnswerRun (maybe VerdictOk (const VerdictRuntimeError) trap) (Observation M.empty vars M.empty (report <$> trap))
+          else AnswerRun VerdictRuntimeError emptyObservation {obError = Just (report (fromMaybe "crash" trap))}
+  where
+    report k = ErrorReport Nothing (Just k) Nothing Nothing
+    signalKind s
+      | s == "8" = "division-by-zero" -- SIGFPE: the integer division traps
+      | s == "14" = "watchdog" -- SIGALRM: the cycles ran past the watchdog
+      | otherwise = "crash" -- SIGSEGV; SIGABRT (a panic in RuSTy's library)
 
 -- | A value of a type from the raw leaves a driver printed: integers in
 -- decimal, REAL and LREAL as their bit patterns, the time types in

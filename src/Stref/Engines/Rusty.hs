@@ -41,7 +41,7 @@ import qualified Data.Text.Read as TR
 import GHC.Float (castDoubleToWord64, castFloatToWord32)
 import Numeric (showHex)
 import Stref.Conformance.Protocol
-import Stref.Engines.Matiec (decodeRaw)
+import Stref.Engines.Matiec (RunOutcome (..), decodeRaw, driverAnswer)
 import Stref.IEC.Check (ProgramChoice (..), checkUnit)
 import Stref.IEC.Checked
 import Stref.IEC.Engine (cycleMillis, observedTypes, scalarValue, valueScalar)
@@ -263,31 +263,10 @@ compileAnswer status err
           _ -> Nothing
       _ -> Nothing
 
--- | How the driver's run ended.
-data RunOutcome
-  = Finished Text -- ^ its standard output
-  | TimedOut -- ^ it ran past the time limit
-
 -- | The answer from the driver's output.
 runAnswer :: Run -> RunOutcome -> Answer
-runAnswer r = \case
-  TimedOut -> AnswerRun VerdictRuntimeError emptyObservation {obError = Just (report "watchdog")}
-  Finished out ->
-    let ls = T.lines out
-        trap = case [T.words (T.drop 5 l) | l <- ls, "trap " `T.isPrefixOf` l] of
-          [s, _] : _ -> Just (signalKind s)
-          _ -> Nothing
-        raws = [T.drop 2 l | l <- ls, "= " `T.isPrefixOf` l]
-        vars = M.fromList (fst (foldl' decodeOne ([], raws) (runObserved r)))
-     in if "end" `elem` ls
-          then AnswerRun (maybe VerdictOk (const VerdictRuntimeError) trap) (Observation M.empty vars M.empty (report <$> trap))
-          else AnswerRun VerdictRuntimeError emptyObservation {obError = Just (report "crash")}
+runAnswer r = driverAnswer (\raws -> M.fromList (fst (foldl' decodeOne ([], raws) (runObserved r))))
   where
-    report k = ErrorReport Nothing (Just k) Nothing Nothing
-    signalKind s
-      | s == "8" = "division-by-zero" -- SIGFPE: the integer division traps
-      | s == "14" = "watchdog" -- SIGALRM: the cycles ran past the watchdog
-      | otherwise = "crash" -- SIGSEGV; SIGABRT, a panic in RuSTy's library
     decodeOne (acc, raws) (path, _, t) =
       let n = case t of
             TArray bs _ -> fromInteger (product [hi - lo + 1 | (lo, hi) <- bs])

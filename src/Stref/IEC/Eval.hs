@@ -600,9 +600,13 @@ eval ce = case ceNode ce of
   CStandard "MUX" (k : ins) -> do
     pol <- asks cxPol
     kv <- eval k
-    -- NX-OP-67: CODESYS evaluates only the input K selects
+    -- NX-OP-67: CODESYS evaluates only the input K selects (under
+    -- index-out-of-range = clamp, the input the clamped K selects)
+    let chosen i = case pIndexOutOfRange pol of
+          IndexClamp -> max 0 (min (toInteger (length ins) - 1) i)
+          _ -> i
     vs <- case (pExtensions pol, kv) of
-      (ExtensionsCodesys, VInt _ i) -> forM (zip [0 ..] ins) $ \(j, a) -> if j == i then eval a else pure (defaultValue (ceType a))
+      (ExtensionsCodesys, VInt _ i) -> forM (zip [0 ..] ins) $ \(j, a) -> if j == chosen i then eval a else pure (defaultValue (ceType a))
       _ -> mapM eval ins
     orFault (cePos ce) (standard pol "MUX" (map ceType (k : ins)) (kv : vs))
   CStandard "SEL" [g, a, b] -> do
