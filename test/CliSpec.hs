@@ -146,6 +146,28 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitSuccess
       -- 40000 - 65536 = -25536
       (decode (BL.pack out) >>= field ["operands", "%M0012"]) `shouldBe` Just (Number (-25536))
+    it "--presets runs an IEC program under each preset, marks what differs and says after which cycle they part; exit 1" $ do
+      (code, out, _) <- stref ["run", fixture "engine-presets.st", "--dialect", "tecomat", "--calls", "5", "--presets", "tecomat", "--presets", "ironplc"]
+      code `shouldBe` ExitFailure 1
+      lines out `shouldContain` ["* MAIN.mean  tecomat: -12768  ironplc: 20000"]
+      lines out `shouldContain` ["they part after cycle 1"]
+    it "--compare POLICY runs every alternative; variants that part and agree again by the last cycle still exit 1, with the cycle" $ do
+      (code, out, _) <- stref ["run", fixture "engine-presets.st", "--dialect", "tecomat", "--calls", "5", "--compare", "timer-q", "--format", "json"]
+      code `shouldBe` ExitFailure 1
+      let j = decode (BL.pack out) :: Maybe Value
+      (j >>= field ["first_parting_cycle"]) `shouldBe` Just (Number 4)
+      (j >>= field ["differ"]) `shouldBe` Just (Array V.empty)
+      (j >>= field ["vars", "MAIN.mean", "timer-q=next-cycle"]) `shouldBe` Just (String "-12768")
+    it "--presets needs two IEC presets; an unknown policy is named" $ do
+      (code, _, err) <- stref ["run", fixture "engine-presets.st", "--dialect", "tecomat", "--presets", "tecomat"]
+      code `shouldBe` ExitFailure 2
+      err `shouldContain` "at least two presets"
+      (code2, _, err2) <- stref ["run", fixture "engine-presets.st", "--dialect", "tecomat", "--compare", "no-such-policy"]
+      code2 `shouldBe` ExitFailure 2
+      err2 `shouldContain` "no policy 'no-such-policy'"
+      (code3, _, err3) <- stref ["run", fixture "engine-presets.st", "--dialect", "tecomat", "--presets", "tecomat", "--presets", "mastertool-xe"]
+      code3 `shouldBe` ExitFailure 2
+      err3 `shouldContain` "MasterTool XE controller's preset"
     it "stops at a division by zero with error 2020 on its line and exits 1" $ do
       (code, out, _) <- stref ["run", fixture "divzero.st", "--set", "%M0010=5", "--format", "json"]
       code `shouldBe` ExitFailure 1

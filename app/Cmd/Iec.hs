@@ -10,6 +10,7 @@ module Cmd.Iec
   , evalIec
   , evalIecRows
   , RunIecOptions (..)
+  , compareIec
   ) where
 
 import Control.Monad (foldM, forM_)
@@ -133,14 +134,76 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
         pure (maybe ExitSuccess (const (ExitFailure 1)) err)
   where
     usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
-    toScalar v = case reads (T.unpack v) :: [(Integer, String)] of
-      [(n, "")] -> SNumber (fromInteger n)
-      _ -> case T.toUpper v of
-        "TRUE" -> SBool True
-        "FALSE" -> SBool False
-        _ -> case reads (T.unpack v) :: [(Double, String)] of
-          [(_, "")] -> SNumber (read (T.unpack v))
-          _ -> SText v
+
+-- | @stref run FILE --presets A B ...@ or @--compare POLICY@: the program
+-- under each variant over the same cycles, side by side, the variables that
+-- differ marked, and the first cycle after which they part (found by
+-- running 1, 2, ... cycles, up to 1000).
+compareIec :: [(Text, Policies)] -> FilePath -> Text -> RunIecOptions -> IO ExitCode
+compareIec variants file src o = case mapM (\(_, p) -> cycleMillis p (riCycle o)) variants of
+  Left e -> usage e
+  Right cycles -> do
+    let choice = maybe ProgramsOfConfiguration ProgramNamed (riProgram o)
+        sets = [(p, toScalar v) | (p, v) <- riSets o]
+        callsFor n = if n <= 0 then [] else Scan sets : replicate (n - 1) (Scan [])
+        outcome n (p, cyc) = case runProgram p file src choice cyc [] (callsFor n) of
+          Left e -> Left (renderError file src e)
+          Right (Left e) -> Left e
+          Right (Right r) -> Right (M.fromList (observedVariables r), (\(k, StopFault (Pos l _) f) -> (k, faultKind f, l)) <$> rrError r)
+        atCycles n = [outcome n (p, c) | ((_, p), c) <- zip variants cycles]
+        final = atCycles (riCalls o)
+        parted n = let xs = atCycles n in any (/= head xs) xs
+        -- the first cycle after which the variants' variables or errors
+        -- differ, also when they agree again by the last cycle
+        firstParting = case filter parted [1 .. min 1000 (riCalls o)] of
+          k : _ -> Just k
+          [] -> Nothing
+        names = map fst variants
+        paths = M.keys (M.unions [m | Right (m, _) <- final])
+        valueOf r path = either (const "rejected") (\(m, _) -> maybe "-" scalarText (M.lookup path m)) r
+        differs path = let vs = map (`valueOf` path) final in any (/= head vs) vs
+        errorText = \case
+          Left e -> "rejected: " <> T.strip (head (T.lines e <> [""]))
+          Right (_, Nothing) -> "none"
+          Right (_, Just (k, kind, l)) -> kind <> " in cycle " <> T.pack (show k) <> " at line " <> T.pack (show l)
+    if riJson o
+      then
+        BL.putStrLn $
+          A.encode $
+            A.object
+              [ "variants" .= names
+              , "cycles" .= riCalls o
+              , "first_parting_cycle" .= firstParting
+              , "errors" .= A.object [K.fromText n .= errorText r | (n, r) <- zip names final]
+              , "vars" .= A.object [K.fromText path .= A.object [K.fromText n .= valueOf r path | (n, r) <- zip names final] | path <- paths]
+              , "differ" .= filter differs paths
+              ]
+      else do
+        TIO.putStrLn ("variants: " <> T.intercalate ", " names <> "; " <> T.pack (show (riCalls o)) <> " cycles")
+        forM_ (zip names final) $ \(n, r) -> TIO.putStrLn ("  error under " <> n <> ": " <> errorText r)
+        let width = maximum (1 : map T.length paths)
+        forM_ paths $ \path ->
+          TIO.putStrLn ((if differs path then "* " else "  ") <> T.justifyLeft width ' ' path <> "  " <> T.intercalate "  " [n <> ": " <> valueOf r path | (n, r) <- zip names final])
+        let agreeAtEnd = null (filter differs paths) && all (== head (map errorText final)) (map errorText final)
+        TIO.putStrLn $ case (agreeAtEnd, firstParting) of
+          (True, Nothing) -> "the variants agree after every cycle"
+          (True, Just k) -> "they part after cycle " <> T.pack (show k) <> " and agree again after the last"
+          (False, Just k) -> "they part after cycle " <> T.pack (show k)
+          (False, Nothing) -> "they part after a cycle beyond the first 1000"
+    -- 0: they agree after every cycle; 1: they differ somewhere (as diff does)
+    pure (if firstParting == Nothing && null (filter differs paths) then ExitSuccess else ExitFailure 1)
+  where
+    usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
+
+toScalar :: Text -> Scalar
+toScalar v = case reads (T.unpack v) :: [(Integer, String)] of
+  [(n, "")] -> SNumber (fromInteger n)
+  _ -> case T.toUpper v of
+    "TRUE" -> SBool True
+    "FALSE" -> SBool False
+    _ -> case reads (T.unpack v) :: [(Double, String)] of
+      [(_, "")] -> SNumber (read (T.unpack v))
+      _ -> SText v
 
 -- | Every variable of the program instances and the globals, flattened to
 -- paths (structures, arrays and FB instances element by element).

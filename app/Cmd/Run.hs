@@ -22,7 +22,8 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr, stdout)
 import Cmd.Common
-import Cmd.Iec (RunIecOptions (..), dialectPolicies, isIecDialect, runIec)
+import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec)
+import Stref.Policy (PolicyInfo (..), lookupPolicy, setPolicy)
 import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics
 import Stref.Execution
@@ -45,6 +46,8 @@ data Options = Options
   , optDialect :: String
   , optCycle :: String
   , optProgram :: Maybe String
+  , optPresets :: [String]
+  , optCompare :: Maybe String
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -75,6 +78,8 @@ options =
     <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect: --set takes PATH=VALUE, e.g. MAIN.start=TRUE)")
     <*> strOption (long "cycle" <> metavar "TIME" <> value "T#10ms" <> showDefault <> help "IEC dialects: the task interval (the virtual clock advances by it before each cycle)")
     <*> optional (strOption (long "program" <> metavar "NAME" <> help "IEC dialects: the PROGRAM to run (default: the configuration's, or the file's only one)"))
+    <*> many (strOption (long "presets" <> metavar "NAME" <> help "IEC dialects: run under this preset too, side by side with the others given (repeatable: --presets tecomat --presets rusty); exit 1 when they differ"))
+    <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "IEC dialects: run under every alternative of this policy, side by side; exit 1 when they differ"))
 
 -- | What a PLC file describes.
 data PlcFile = PlcFile
@@ -93,9 +98,29 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
       Left msg -> usageError "run" msg
       Right src -> case traverse splitSet (optSets o) of
         Left msg -> usageError "run" msg
-        Right sets -> runIec pol (optFile o) src (RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json"))
-  Right _ -> runMasterTool o
+        Right sets ->
+          let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json")
+           in case variants pol of
+                Left msg -> usageError "run" msg
+                Right [] -> runIec pol (optFile o) src ro
+                Right vs -> compareIec vs (optFile o) src ro
+  Right _
+    | not (null (optPresets o)) || optCompare o /= Nothing -> usageError "run" "--presets and --compare run IEC programs (--dialect tecomat, nexto or an engine's preset); for MasterTool XE snippets, stref eval --compare"
+    | otherwise -> runMasterTool o
   where
+    -- the presets named (each with the --policy settings), or the dialect's
+    -- preset under each alternative of the compared policy
+    variants base = do
+      fromPresets <- mapM (\n -> (T.pack n,) <$> dialectPolicies n (optPolicies o)) (optPresets o)
+      mapM_ (\(n, p) -> if isIecDialect p then Right () else Left (n <> " is the MasterTool XE controller's preset, not an IEC dialect's")) fromPresets
+      fromPolicy <- case optCompare o of
+        Nothing -> Right []
+        Just k -> case lookupPolicy (T.pack k) of
+          Nothing -> Left ("no policy '" <> T.pack k <> "'; docs/policies.md lists them")
+          Just info
+            | null (piAlternatives info) -> Left ("the policy " <> T.pack k <> " takes a number, not one of several alternatives")
+            | otherwise -> mapM (\a -> (T.pack k <> "=" <> a,) <$> setPolicy (T.pack k) a base) (piAlternatives info)
+      if length (fromPresets ++ fromPolicy) == 1 then Left "give at least two presets to compare (--presets A --presets B)" else Right (fromPresets ++ fromPolicy)
     splitSet kv = case T.breakOn "=" (T.pack kv) of
       (k, v) | not (T.null v) -> Right (T.strip k, T.strip (T.drop 1 v))
       _ -> Left ("--set takes PATH=VALUE, e.g. MAIN.start=TRUE, not '" <> T.pack kv <> "'")
