@@ -244,6 +244,17 @@ spec = describe "the stref command line" $ do
       (code, _, err) <- stref ["conformance", fixtureCorpus, "--rule", "MT-OP-7", "--feature", "calls"]
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` isInfixOf "the selection --feature calls --rule MT-OP-7 matches no case"
+    it "--exclude-feature and --features-file: an engine's missing features make their cases unsupported, without asking it" $ do
+      -- the engine would fail every case: only the cases not excluded reach it
+      (code, out, _) <- stref ["conformance", fixtureCorpus, "--exclude-feature", "real", "--engine", "false"]
+      code `shouldBe` ExitFailure 1
+      last (lines out) `shouldBe` "0 passed, 0 failed, 2 unsupported, 4 engine-error, 0 skipped"
+      (code', out', _) <- stref ["conformance", fixtureCorpus, "--features-file", fixture "lacks-real.features"]
+      code' `shouldBe` ExitSuccess
+      last (lines out') `shouldBe` "4 passed, 0 failed, 2 unsupported, 0 engine-error, 0 skipped"
+      (code'', _, err'') <- stref ["conformance", fixtureCorpus, "--exclude-feature", "reel"]
+      code'' `shouldBe` ExitFailure 2
+      err'' `shouldSatisfy` isInfixOf "--exclude-feature reel matches no case"
     it "runs a selection that matches, also in a shard that holds none of its cases" $ do
       (code, out, _) <- stref ["conformance", fixtureCorpus, "--rule", "MT-OP-7"]
       code `shouldBe` ExitSuccess

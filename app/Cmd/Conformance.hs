@@ -39,6 +39,8 @@ data Opts = Opts
   , oShard :: Maybe (Int, Int)
   , oFilters :: [Text]
   , oFeatures :: [Text]
+  , oExcluded :: [Text]
+  , oFeaturesFile :: Maybe FilePath
   , oRules :: [Text]
   , oTimeout :: Maybe Double
   , oFormat :: Format
@@ -69,6 +71,8 @@ opts =
     <*> optional (option shard (long "shard" <> metavar "I/N" <> help "Run only part I of N (1-based) of the cases, in id order"))
     <*> many (strOption (long "filter" <> metavar "GLOB" <> help "Run only cases whose id matches (* any text, ? one character; repeatable)"))
     <*> many (strOption (long "feature" <> metavar "F" <> help "Run only cases tagged with this feature (repeatable)"))
+    <*> many (strOption (long "exclude-feature" <> metavar "F" <> help "A feature the engine lacks: its cases are unsupported, the engine is not asked (repeatable)"))
+    <*> optional (strOption (long "features-file" <> metavar "FILE" <> help "The features the engine lacks, one a line (# comments), as --exclude-feature; names no case has are ignored"))
     <*> many (strOption (long "rule" <> metavar "ID" <> help "Run only cases citing this rule (repeatable)"))
     <*> optional (option seconds (long "timeout" <> metavar "SECONDS" <> help "Time limit per case (default: 10 for an external engine; 300 for the reference, whose runs the step budget already bounds)"))
     <*> option format (long "format" <> metavar "text|json|junit" <> value FormatText <> help "Report format (default text)")
@@ -106,6 +110,8 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
     case known of
       Left e -> usage e
       Right knownSet -> do
+        declared <- maybe (pure (Right [])) (readListFile "features") (oFeaturesFile o)
+        lackingFile <- either (\e -> usage e >>= exitWith) pure declared
         let paths = if null (oPaths o) then ["conformance"] else oPaths o
         -- the cases are parsed, and the reference engine computes, in this
         -- process: use the cores
@@ -130,6 +136,8 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
                     , roShard = oShard o
                     , roFilters = oFilters o
                     , roFeatures = oFeatures o
+                    , roLacking = oExcluded o ++ lackingFile
+                    , roExcludeGiven = oExcluded o
                     , roRules = oRules o
                     , roTimeout = fromMaybe (maybe 300 (const (if isAdapter then 60 else 10)) (oEngine o)) (oTimeout o)
                     , roKnownFailures = knownSet

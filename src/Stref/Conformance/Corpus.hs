@@ -11,6 +11,7 @@ module Stref.Conformance.Corpus
   , loadCorpusWith
   , findCaseFiles
   , readKnownFailures
+  , readListFile
   , ruleTitles
   , areaOfId
   ) where
@@ -153,11 +154,16 @@ readUtf8 f = do
 -- | A known-failures file: one case id per line; @#@ comments and blank
 -- lines are ignored.
 readKnownFailures :: FilePath -> IO (Either Text (S.Set Text))
-readKnownFailures f = do
+readKnownFailures f = fmap S.fromList <$> readListFile "known-failures" f
+
+-- | A file of names, one a line; @#@ starts a comment, blank lines are
+-- ignored (the known failures, an engine's features file).
+readListFile :: Text -> FilePath -> IO (Either Text [Text])
+readListFile what f = do
   exists <- doesFileExist f
   if not exists
-    then pure (Left ("known-failures file not found: " <> T.pack f))
+    then pure (Left (what <> " file not found: " <> T.pack f))
     else do
       r <- readUtf8 f
-      pure $ fmap (S.fromList . filter (not . T.null) . map (T.strip . T.takeWhile (/= '#')) . T.lines) r
+      pure $ fmap (filter (not . T.null) . map (T.strip . T.takeWhile (/= '#')) . T.lines) r
 

@@ -79,6 +79,8 @@ data RunOptions = RunOptions
   , roShard :: Maybe (Int, Int) -- ^ @(i, n)@, 1 <= i <= n
   , roFilters :: [Text] -- ^ globs on case ids; a case runs when it matches one (or none are given)
   , roFeatures :: [Text]
+  , roLacking :: [Text] -- ^ features the engine declares it lacks: their cases are unsupported, the engine is not asked
+  , roExcludeGiven :: [Text] -- ^ those of them given by --exclude-feature, which must each match a case (a features file may name others)
   , roRules :: [Text]
   , roTimeout :: Double -- ^ seconds per case
   , roKnownFailures :: S.Set Text
@@ -95,6 +97,8 @@ defaultRunOptions =
     , roShard = Nothing
     , roFilters = []
     , roFeatures = []
+    , roLacking = []
+    , roExcludeGiven = []
     , roRules = []
     , roTimeout = 10
     , roKnownFailures = S.empty
@@ -179,6 +183,7 @@ unmatchedSelections o corpus
     unmatched =
       ["--filter " <> g <> " matches no case id" | g <- roFilters o, not (any (globMatch g) ids)]
         ++ ["--feature " <> f <> " matches no case" | f <- roFeatures o, f `S.notMember` features]
+        ++ ["--exclude-feature " <> f <> " matches no case" | f <- roExcludeGiven o, f `S.notMember` features]
         ++ ["--rule " <> r <> " matches no case" | r <- roRules o, r `S.notMember` rules]
     selecting = not (null (roFilters o) && null (roFeatures o) && null (roRules o))
     given = concat [["--" <> k, v] | (k, vs) <- [("filter", roFilters o), ("feature", roFeatures o), ("rule", roRules o)], v <- vs]
@@ -258,8 +263,12 @@ runEntries o entries
 -- | Is the entry run against the engine (not malformed, not filtered out)?
 runs :: RunOptions -> Entry -> Bool
 runs o = \case
-  Loaded c -> selected o c == Nothing
+  Loaded c -> selected o c == Nothing && null (lacking o c)
   Invalid {} -> False
+
+-- | The features of a case that the engine declared it lacks.
+lacking :: RunOptions -> Case -> [Text]
+lacking o c = [f | f <- caseFeatures c, f `elem` roLacking o]
 
 -- | Run one entry; a known failure is not yet marked ('markKnown').
 runEntryAsIs :: RunOptions -> Entry -> IO CaseResult
@@ -267,6 +276,9 @@ runEntryAsIs o = \case
   Invalid i f msg -> pure (CaseResult i f Nothing (InvalidCase msg) (known o i) 0 Nothing)
   Loaded c -> case selected o c of
     Just why -> pure (CaseResult (caseId c) (caseFile c) (Just c) (Skipped why) (known o (caseId c)) 0 Nothing)
+    Nothing
+      | fs@(_ : _) <- lacking o c ->
+          pure (CaseResult (caseId c) (caseFile c) (Just c) (Unsupported ("the engine lacks " <> T.intercalate ", " fs <> " (--exclude-feature, --features-file); it was not asked")) (known o (caseId c)) 0 Nothing)
     Nothing -> do
       t0 <- getMonotonicTime
       -- whatever goes wrong while running one case ends only that case
