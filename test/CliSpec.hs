@@ -168,6 +168,23 @@ spec = describe "the stref command line" $ do
       (code3, _, err3) <- stref ["run", fixture "engine-presets.st", "--dialect", "tecomat", "--presets", "tecomat", "--presets", "mastertool-xe"]
       code3 `shouldBe` ExitFailure 2
       err3 `shouldContain` "MasterTool XE controller's preset"
+    it "a rejected program under --format json is a JSON verdict on stdout, for MasterTool XE and the IEC dialects; exit 1" $ do
+      (code, out, _) <- stref ["run", fixture "syntax-error.st", "--format", "json"]
+      code `shouldBe` ExitFailure 1
+      let j = decode (BL.pack out) :: Maybe Value
+      (j >>= field ["verdict"]) `shouldBe` Just (String "rejected")
+      (code', out', _) <- stref ["run", fixture "tecomat-mismatch.st", "--dialect", "tecomat", "--format", "json"]
+      code' `shouldBe` ExitFailure 1
+      (decode (BL.pack out') >>= field ["errors"]) `shouldSatisfy` \case
+        Just (Array es) -> fmap (field ["kind"]) (V.toList es) == [Just (String "type-mismatch")]
+        _ -> False
+    it "a missing file or a directory is said in words, exit 2" $ do
+      (code, _, err) <- stref ["run", "no-such-dir/prog.st"]
+      code `shouldBe` ExitFailure 2
+      err `shouldBe` "stref run: no such file: no-such-dir/prog.st\n"
+      (code', _, err') <- stref ["check", "test"]
+      code' `shouldBe` ExitFailure 2
+      err' `shouldBe` "stref check: test is a directory, not an ST file\n"
     it "stops at a division by zero with error 2020 on its line and exits 1" $ do
       (code, out, _) <- stref ["run", fixture "divzero.st", "--set", "%M0010=5", "--format", "json"]
       code `shouldBe` ExitFailure 1

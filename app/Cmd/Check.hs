@@ -14,7 +14,7 @@ import qualified Data.Text as T
 import qualified Data.Text.IO as TIO
 import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
-import Cmd.Common (readSource)
+import Cmd.Common (notAFile, readSource)
 import Cmd.Iec (checkIec, dialectPolicies, isIecDialect)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Check (checkModule)
@@ -75,7 +75,9 @@ runMasterTool :: Options -> IO ExitCode
 runMasterTool opts =
   case foldM applyPolicy mastertoolXE (optPolicies opts) of
     Left msg -> usage msg
-    Right policies -> do
+    Right policies -> notAFile file >>= maybe (checkFile policies) usage
+  where
+    checkFile policies = do
       contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
       case contents of
         Left e -> usage ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
@@ -99,7 +101,6 @@ runMasterTool opts =
                 FormatGcc -> mapM_ (TIO.hPutStrLn stderr . gccLine) errs
                 FormatJson -> BL.putStrLn (A.encode (A.object ["file" .= file, "valid" .= False, "errors" .= map jsonError errs]))
               pure (ExitFailure 1)
-  where
     file = optFile opts
     kindText = case optKind opts of
       ProcedureModule -> "P"

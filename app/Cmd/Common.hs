@@ -1,3 +1,5 @@
+{-# LANGUAGE MultiWayIf #-}
+
 -- | Helpers shared by the run and eval commands: policies from K=V, reading
 -- sources, rendering values and errors.
 module Cmd.Common
@@ -12,6 +14,8 @@ module Cmd.Common
   , valueJson
   , engineCommand
   , adapterCommand
+  , rejectionJson
+  , notAFile
   ) where
 
 import Control.Exception (IOException, try)
@@ -24,12 +28,15 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Data.Word (Word32)
 import Numeric (readHex)
+import System.Directory (doesDirectoryExist, doesFileExist)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
 import Stref.Engines.Run (Engine, engName, engineByName, findTools)
 import System.Environment (getExecutablePath)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Diagnostics
+import Stref.Syntax (Pos (..))
+import Stref.Verification (VerificationError (..))
 import Stref.Operands
 import Stref.Policy
 import Stref.Run (Setting (..), observeOperand)
@@ -46,10 +53,36 @@ applyPolicies = foldM apply mastertoolXE
 
 readSource :: FilePath -> IO (Either Text Text)
 readSource file = do
-  contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
-  pure $ case contents of
-    Left e -> Left ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
-    Right bytes -> either (Left . T.stripEnd . renderEncodingError file) Right (decodeSource bytes)
+  missing <- notAFile file
+  case missing of
+    Just why -> pure (Left why)
+    Nothing -> do
+      contents <- try (BS.readFile file) :: IO (Either IOException BS.ByteString)
+      pure $ case contents of
+        Left e -> Left ("cannot read " <> T.pack file <> ": " <> T.pack (show e))
+        Right bytes -> either (Left . T.stripEnd . renderEncodingError file) Right (decodeSource bytes)
+
+-- | Why a path given as a source file is none: it does not exist, or it is a
+-- directory (in words, not as the exception's text).
+notAFile :: FilePath -> IO (Maybe Text)
+notAFile file = do
+  isFile <- doesFileExist file
+  isDir <- doesDirectoryExist file
+  pure $
+    if
+        | isDir -> Just (T.pack file <> " is a directory, not an ST file")
+        | not isFile -> Just ("no such file: " <> T.pack file)
+        | otherwise -> Nothing
+
+-- | A rejected program as the JSON verdict @run --format json@ prints on
+-- standard output: the file and each error with its kind and place.
+rejectionJson :: FilePath -> [VerificationError] -> A.Value
+rejectionJson file errs =
+  A.object
+    [ "file" A..= file
+    , "verdict" A..= ("rejected" :: Text)
+    , "errors" A..= [A.object ["kind" A..= k, "line" A..= l, "column" A..= c, "message" A..= m] | VerificationError k (Pos l c) m <- errs]
+    ]
 
 usageError :: String -> Text -> IO ExitCode
 usageError cmd msg = do

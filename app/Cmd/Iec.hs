@@ -37,6 +37,7 @@ import Stref.IEC.Types (Elem (TIME))
 import Stref.IEC.Values
 import Stref.Policy
 import Stref.Verification (renderError)
+import Cmd.Common (rejectionJson)
 
 -- | The preset of a dialect with @--policy K=V@ assignments applied.
 dialectPolicies :: String -> [String] -> Either Text Policies
@@ -108,9 +109,11 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
         sets = [(p, toScalar v) | (p, v) <- riSets o]
         calls = Scan sets : replicate (max 0 (riCalls o - 1)) (Scan [])
     case runProgram pol file src choice cycle [] (if riCalls o <= 0 then [] else calls) of
-      Left e -> do
-        TIO.hPutStr stderr (renderError file src e)
-        pure (ExitFailure 1)
+      Left e
+        | riJson o -> BL.putStrLn (A.encode (rejectionJson file [e])) >> pure (ExitFailure 1)
+        | otherwise -> do
+            TIO.hPutStr stderr (renderError file src e)
+            pure (ExitFailure 1)
       Right (Left e) -> usage e
       Right (Right r) -> do
         let vars = observedVariables r

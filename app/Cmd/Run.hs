@@ -158,6 +158,8 @@ runMasterTool o = do
               calls = replicate (optCalls o) (CallSpec inputs [] chfIn chfOut)
           case compileSource pol kind (optFile o) src >>= \cm -> streamModule runSetup cm calls of
             Left (BadSetting msg) -> usageError "run" msg
+            Left (Rejected errs) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) errs)) >> pure (ExitFailure 1)
+            Left (SyntaxError err) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) [err])) >> pure (ExitFailure 1)
             Left failure -> do
               TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
               pure (ExitFailure 1)
