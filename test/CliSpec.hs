@@ -178,6 +178,13 @@ spec = describe "the stref command line" $ do
       (decode (BL.pack out') >>= field ["errors"]) `shouldSatisfy` \case
         Just (Array es) -> fmap (field ["kind"]) (V.toList es) == [Just (String "type-mismatch")]
         _ -> False
+    it "a --plc file with an unknown key names it and the valid ones; a missing one says so; exit 2" $ do
+      (code, _, err) <- stref ["run", fixture "sat.st", "--plc", fixture "plc-unknown-key.yaml"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` isInfixOf "unknown key 'declar'; the keys are declare, diagnostics, init, chf"
+      (code', _, err') <- stref ["run", fixture "sat.st", "--plc", fixture "no-such-plc.yaml"]
+      code' `shouldBe` ExitFailure 2
+      err' `shouldSatisfy` isInfixOf "no such file: "
     it "a missing file or a directory is said in words, exit 2" $ do
       (code, _, err) <- stref ["run", "no-such-dir/prog.st"]
       code `shouldBe` ExitFailure 2

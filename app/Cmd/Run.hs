@@ -315,10 +315,14 @@ tshow = T.pack . show
 -- not mentioned keep the default layout.
 readPlcFile :: FilePath -> IO (Either Text PlcFile)
 readPlcFile file = do
-  r <- Y.decodeFileEither file
-  pure $ case r of
-    Left e -> Left (T.pack file <> ": " <> T.pack (Y.prettyPrintParseException e))
-    Right v -> either (Left . ((T.pack file <> ": ") <>)) Right (plcFromJson v)
+  missing <- notAFile file
+  case missing of
+    Just why -> pure (Left why)
+    Nothing -> do
+      r <- Y.decodeFileEither file
+      pure $ case r of
+        Left e -> Left (T.pack file <> ": " <> T.pack (Y.prettyPrintParseException e))
+        Right v -> either (Left . ((T.pack file <> ": ") <>)) Right (plcFromJson v)
 
 plcFromJson :: A.Value -> Either Text PlcFile
 plcFromJson top = do
@@ -326,6 +330,10 @@ plcFromJson top = do
     A.Object o -> Right (maybe o id (KM.lookup "plc" o >>= asObject))
     A.Null -> Right KM.empty
     _ -> Left "expected a mapping with declare, diagnostics, init, chf"
+  -- a misspelt key must not pass as an empty setting
+  case [K.toText k | k <- KM.keys o, K.toText k `notElem` ["declare", "diagnostics", "init", "chf"]] of
+    [] -> Right ()
+    k : _ -> Left ("unknown key '" <> k <> "'; the keys are declare, diagnostics, init, chf")
   cfg0 <- maybe (Right defaultPlcConfig) (declare defaultPlcConfig) (KM.lookup "declare" o)
   cfg <- case KM.lookup "diagnostics" o of
     Nothing -> Right cfg0
