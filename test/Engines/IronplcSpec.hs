@@ -90,6 +90,9 @@ spec = describe "the IronPLC adapter" $ do
     it "a timer, because ironplcvm keeps the wall clock" $
       declined (header "calls: 2\nexpect:\n  vars: {MAIN.done: false}" <> program "t : TON; done : BOOL;" "t(IN := TRUE, PT := T#1s); done := t.Q;")
         `shouldReturn` "the program reads the clock (TON), and ironplcvm has only the wall clock"
+    it "a conversion to TIME is no call of TIME(), which reads the clock" $
+      declined (header "expect:\n  vars: {MAIN.d: 5}" <> program "span : TIME; d : DINT := 5;" "span := DINT_TO_TIME(d);")
+        `shouldReturn` "runnable"
     it "a variable written between cycles" $
       declined (header "calls:\n  - {set: {MAIN.x: 4}}\nexpect:\n  vars: {MAIN.y: 5}" <> program "x, y : INT;" "y := x + 1;")
         `shouldReturn` "ironplcvm has no way to write a variable between cycles"

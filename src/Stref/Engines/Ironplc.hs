@@ -118,9 +118,9 @@ clockReaders prog src =
       TArray _ t -> fbTypes t
       TStruct _ fs -> concatMap (fbTypes . snd) fs
       _ -> []
-    callsTime s = any opens (drop 1 (T.splitOn "TIME" s)) && any (\(a, _) -> T.null a || not (identChar (T.last a))) (T.breakOnAll "TIME" s)
-      where
-        opens rest = "(" `T.isPrefixOf` T.stripStart rest
+    -- a TIME that starts a word and is followed by a parenthesis (not
+    -- DINT_TO_TIME(...), nor a TIME declaration beside such a call)
+    callsTime s = or [(T.null before || not (identChar (T.last before))) && "(" `T.isPrefixOf` T.stripStart (T.drop 4 rest) | (before, rest) <- T.breakOnAll "TIME" s]
     identChar c = isAlphaNum c || c == '_'
 
 -- | A path's name in the dump: a global, or a variable of the one program
