@@ -283,6 +283,9 @@ data Policies = Policies
   , pFBAccess :: !FBAccess
   , pSubrangeInitial :: !SubrangeInitial
   , pTimeRange :: !TimeRange
+  , pCatalogue :: !Text
+  -- ^ the prefix of the rule ids of the dialect's catalogue (MT, TC, NX):
+  -- the ids a trace cites where a rule has one in several catalogues
   }
   deriving (Eq, Show)
 
@@ -332,6 +335,7 @@ mastertoolXE =
     , pFBAccess = AccessIec
     , pSubrangeInitial = SubrangeLowerBound
     , pTimeRange = TimeSigned
+    , pCatalogue = "MT"
     }
 
 -- | The Tecomat preset (docs/tecomat.md gives the reason for each choice).
@@ -378,6 +382,7 @@ tecomat =
     , pFBAccess = AccessIec -- TC-VAR-1, TC-POU-24
     , pSubrangeInitial = SubrangeLowerBound -- TC-TYPE-21
     , pTimeRange = TimeSigned -- TC-TYPE-19
+    , pCatalogue = "TC"
     }
 
 -- | The Nexto preset: CODESYS V3 as the Nexto manual documents it
@@ -423,6 +428,7 @@ nexto =
     , pFBAccess = AccessCodesys -- NX-POU-19
     , pSubrangeInitial = SubrangeZero -- NX-TYPE-35
     , pTimeRange = TimeUnsigned -- NX-TYPE-30, NX-TYPE-34
+    , pCatalogue = "NX"
     }
 
 -- | An engine's preset: what MATIEC's upstream head does where the IEC
