@@ -26,6 +26,7 @@ module Stref.Trace
   , renderText
   , itemJson
   , renderJsonLines
+  , watching
   ) where
 
 import qualified Data.Aeson as A
@@ -190,8 +191,8 @@ lineOf = \case
 -- | The text trace: one line per item, the source line it ran (from the
 -- given lookup) and what happened, rules with their ids and the policy
 -- alternative in force; calls and loop bodies indented.
-renderText :: Policies -> (Int -> Text) -> [Event] -> [Text]
-renderText pol source = go 0 . items
+renderText :: Policies -> (Int -> Text) -> [Item] -> [Text]
+renderText pol source = go 0
   where
     go _ [] = []
     go depth (it : rest) = case itEvent it of
@@ -266,8 +267,21 @@ itemJson pol it = A.object (kind ++ attached)
           ++ concat [[field "policy" p, field "alternative" (fromMaybe "?" (lookup p (policyAssignments pol)))] | Just p <- [dPolicy d]]
 
 -- | The JSON event stream: one object per line.
-renderJsonLines :: Policies -> [Event] -> [Text]
-renderJsonLines pol = map (TE.decodeUtf8 . BL.toStrict . A.encode . itemJson pol) . items
+renderJsonLines :: Policies -> [Item] -> [Text]
+renderJsonLines pol = map (TE.decodeUtf8 . BL.toStrict . A.encode . itemJson pol)
+
+-- | Only the items that read or write one of the named variables (a name
+-- also matches its elements and fields: @V@ matches @V[2]@ and @V.X@), the
+-- cycles and the runtime errors; no names keeps everything.
+watching :: [Text] -> [Item] -> [Item]
+watching [] = id
+watching names = filter keep
+  where
+    keep it = case itEvent it of
+      Cycle _ -> True
+      Failure {} -> True
+      _ -> any mentions (map fst (itReads it ++ itWrites it) ++ [n | Wrote _ n _ <- [itEvent it]])
+    mentions n = any (\w -> let n' = T.toUpper n in n' == w || any (\c -> (w <> c) `T.isPrefixOf` n') ["[", "."]) (map T.toUpper names)
 
 tshow :: Show a => a -> Text
 tshow = T.pack . show
