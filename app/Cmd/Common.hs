@@ -16,6 +16,9 @@ module Cmd.Common
   , adapterCommand
   , rejectionJson
   , notAFile
+  , TraceFlags (..)
+  , traceFlags
+  , traceRequest
   ) where
 
 import Control.Exception (IOException, try)
@@ -28,6 +31,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Data.Word (Word32)
 import Numeric (readHex)
+import Options.Applicative (Parser, help, long, many, metavar, strOption, switch)
 import System.Directory (doesDirectoryExist, doesFileExist)
 import System.Exit
 import System.IO (hPutStrLn, stderr)
@@ -190,3 +194,24 @@ adapterCommand e = do
   pure (quote self <> " adapter " <> T.unpack (engName e))
   where
     quote p = "'" <> concatMap (\c -> if c == '\'' then "'\\''" else [c]) p <> "'"
+
+-- | The trace options of run and eval (docs/trace.md).
+data TraceFlags = TraceFlags
+  { tfTrace :: Bool
+  , tfAll :: Bool
+  , tfWatch :: [Text]
+  }
+
+traceFlags :: Parser TraceFlags
+traceFlags =
+  TraceFlags
+    <$> switch (long "trace" <> help "Show why each value came out: every statement run, the values read and written, and each rule (with its id and the policy alternative) that decided an outcome; --format json gives one JSON event per line")
+    <*> switch (long "trace-all" <> help "With --trace: every iteration of every loop (by default a loop shows its first 3 iterations, then a count)")
+    <*> many (T.pack <$> strOption (long "watch" <> metavar "NAME" <> help "With --trace: only the statements that read or write NAME (repeatable; V also matches V[2] and V.X)"))
+
+-- | Nothing without tracing; else whether every iteration is kept, and
+-- the watched names. --trace-all and --watch imply --trace.
+traceRequest :: TraceFlags -> Maybe (Bool, [Text])
+traceRequest f
+  | tfTrace f || tfAll f || not (null (tfWatch f)) = Just (tfAll f, tfWatch f)
+  | otherwise = Nothing

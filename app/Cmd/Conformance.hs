@@ -18,12 +18,15 @@ import qualified Data.Text.Encoding as TE
 import qualified Data.Text.IO as TIO
 import Options.Applicative hiding (command)
 import qualified Options.Applicative
+import Stref.Conformance.Case (Case (..), effectiveExpect)
 import Stref.Conformance.Corpus
 import Stref.Conformance.Report
 import Stref.Conformance.Runner
 import Cmd.Common (engineCommand)
 import Stref.Engines.Run (engineByName)
+import Stref.Engine (referenceTrace)
 import Stref.Policy (policyAssignments)
+import Stref.Trace (items, renderText)
 import System.Exit
 import System.IO (stderr)
 import Text.Read (readMaybe)
@@ -49,6 +52,7 @@ data Opts = Opts
   , oMaxAnswer :: Int
   , oVerbose :: Bool
   , oOnlyFailures :: Bool
+  , oExplain :: Bool
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -81,6 +85,7 @@ opts =
     <*> option positive (long "max-answer-bytes" <> metavar "N" <> value (16 * 1024 * 1024) <> showDefault <> help "Largest answer accepted from an external engine")
     <*> switch (long "verbose" <> short 'v' <> help "List every case, also passed and filtered-out ones, and for a case an external engine failed the request and its answer")
     <*> switch (long "only-failures" <> help "In the text report, list only the cases that fail the run (fail, engine-error, invalid); the totals are unchanged")
+    <*> switch (long "explain" <> help "For one case: print the reference's trace of it (every statement, value and deciding rule, docs/trace.md) before the report, which shows the differences of the engine's answer")
   where
     positive = eitherReader $ \s -> case readMaybe s of
       Just n | n >= 1 -> Right n
@@ -101,6 +106,25 @@ opts =
 
 usage :: Text -> IO ExitCode
 usage msg = TIO.hPutStrLn stderr ("stref conformance: " <> msg) >> pure (ExitFailure 2)
+
+-- | @--explain@: the reference's trace of the one case selected.
+explain :: RunOptions -> Corpus -> IO ()
+explain options corpus = case [c | Loaded c <- corpusEntries corpus, selected c] of
+  [c] -> case casePolicies options c of
+    Left e -> usage e >>= exitWith
+    Right pol -> case referenceTrace [] (buildRequest pol c (effectiveExpect pol c)) of
+      Left e -> usage e >>= exitWith
+      Right (ran, _, events) -> do
+        TIO.putStrLn ("the reference's trace of " <> caseId c <> " (" <> T.pack (caseFile c) <> "):")
+        let source = caseSource c
+            line l = case drop (l - 1) (T.lines source) of
+              x : _ | l >= 1 -> x
+              _ -> ""
+        mapM_ TIO.putStrLn (renderText ran line (items events))
+        TIO.putStrLn ""
+  cs -> usage ("--explain explains one case; " <> T.pack (show (length cs)) <> " are selected (give one case file, or --filter ID)") >>= exitWith
+  where
+    selected c = null (roFilters options) || any (`globMatch` caseId c) (roFilters options)
 
 run :: Opts -> IO ExitCode
 run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o) of
@@ -146,6 +170,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
             case unmatchedSelections options corpus of
               [] -> pure ()
               nothing -> mapM_ usage nothing >> exitWith (ExitFailure 2)
+            when (oExplain o) $ explain options corpus
             results <- runCorpusUnlessEngineMissing options corpus >>= \case
               Right rs -> pure rs
               Left why -> usage (why <> "; check the command given to --engine: " <> maybe "" T.pack (oEngine o)) >>= exitWith

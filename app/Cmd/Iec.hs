@@ -30,12 +30,13 @@ import Stref.Conformance.Protocol (Scalar (..))
 import Stref.IEC.Check (ProgramChoice (..), checkUnit)
 import Stref.IEC.Checked
 import Stref.IEC.Engine
-import Stref.IEC.Eval (Machine (..), Stop (..), readVariablePath)
+import Stref.IEC.Eval (Machine (..), Stop (..), readVariablePath, traceOf)
 import Stref.IEC.Parser (parseUnit)
 import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (TIME))
 import Stref.IEC.Values
 import Stref.Policy
+import Stref.Trace (items, renderJsonLines, renderText, watching)
 import Stref.Verification (renderError)
 import Cmd.Common (rejectionJson)
 
@@ -96,6 +97,9 @@ data RunIecOptions = RunIecOptions
   , riProgram :: Maybe Text
   , riSets :: [(Text, Text)] -- ^ path, ST literal or number, written before the first cycle
   , riJson :: Bool
+  , riTrace :: Maybe (Bool, [Text])
+  -- ^ @--trace@: whether every loop iteration is kept (@--trace-all@), and
+  -- the @--watch@ names
   }
 
 -- | @stref run --dialect tecomat FILE@: the programs over N cycles on the
@@ -108,7 +112,7 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
     let choice = maybe ProgramsOfConfiguration ProgramNamed (riProgram o)
         sets = [(p, toScalar v) | (p, v) <- riSets o]
         calls = Scan sets : replicate (max 0 (riCalls o - 1)) (Scan [])
-    case runProgram pol file src choice cycle [] (if riCalls o <= 0 then [] else calls) of
+    case runProgramTraced (fst <$> riTrace o) pol file src choice cycle [] (if riCalls o <= 0 then [] else calls) of
       Left e
         | riJson o -> BL.putStrLn (A.encode (rejectionJson file [e])) >> pure (ExitFailure 1)
         | otherwise -> do
@@ -118,6 +122,9 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
       Right (Right r) -> do
         let vars = observedVariables r
             err = rrError r
+        forM_ (riTrace o) $ \(_, watch) ->
+          mapM_ TIO.putStrLn $
+            (if riJson o then renderJsonLines pol else renderText pol (sourceLine src)) (watching watch (items (traceOf (rrMachine r))))
         if riJson o
           then
             BL.putStrLn $
@@ -198,6 +205,12 @@ compareIec variants file src o = case mapM (\(_, p) -> cycleMillis p (riCycle o)
   where
     usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
 
+-- | The text of a source line, for the trace.
+sourceLine :: Text -> Int -> Text
+sourceLine src l = case drop (l - 1) (T.lines src) of
+  x : _ | l >= 1 -> x
+  _ -> ""
+
 toScalar :: Text -> Scalar
 toScalar v = case reads (T.unpack v) :: [(Integer, String)] of
   [(n, "")] -> SNumber (fromInteger n)
@@ -246,7 +259,7 @@ scalarText = \case
 evalIec :: Policies -> Text -> Int -> IO ExitCode
 evalIec pol snippet calls = do
   let src = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
-  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False)
+  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False Nothing)
 
 -- | The rows a snippet leaves (every variable, then the error), for
 -- @stref eval --dialect tecomat --compare POLICY@; Nothing when rejected.

@@ -48,6 +48,7 @@ data Options = Options
   , optProgram :: Maybe String
   , optPresets :: [String]
   , optCompare :: Maybe String
+  , optTrace :: TraceFlags
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -80,6 +81,7 @@ options =
     <*> optional (strOption (long "program" <> metavar "NAME" <> help "IEC dialects: the PROGRAM to run (default: the configuration's, or the file's only one)"))
     <*> many (strOption (long "presets" <> metavar "NAME" <> help "IEC dialects: run under this preset too, side by side with the others given (repeatable: --presets tecomat --presets rusty); exit 1 when they differ"))
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "IEC dialects: run under every alternative of this policy, side by side; exit 1 when they differ"))
+    <*> traceFlags
 
 -- | What a PLC file describes.
 data PlcFile = PlcFile
@@ -99,7 +101,7 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
       Right src -> case traverse splitSet (optSets o) of
         Left msg -> usageError "run" msg
         Right sets ->
-          let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json")
+          let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o))
            in case variants pol of
                 Left msg -> usageError "run" msg
                 Right [] -> runIec pol (optFile o) src ro

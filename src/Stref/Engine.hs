@@ -9,6 +9,7 @@
 -- observation.
 module Stref.Engine
   ( referenceEngine
+  , referenceTrace
   , requestPolicies
   , scalarToCellBits
   ) where
@@ -27,7 +28,8 @@ import Stref.Checked (ModuleKind (..))
 import Stref.Conformance.Protocol
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
-import Stref.IEC.Engine (iecEngine)
+import Stref.IEC.Engine (iecEngine, iecTrace)
+import Stref.Trace (Event)
 import Stref.Operands
 import Stref.Policy
 import Stref.Syntax (Pos (..))
@@ -55,6 +57,15 @@ referenceEngine overrides rq = either AnswerUnsupported id $ do
   case pModel pol of
     IecController -> Right (iecEngine pol rq)
     MasterToolController -> mastertoolEngine pol rq
+
+-- | 'referenceEngine' with the trace of the run (@stref conformance
+-- --explain@) and the policies it ran under.
+referenceTrace :: [(Text, Text)] -> Request -> Either Text (Policies, Answer, [Event])
+referenceTrace overrides rq = do
+  pol <- requestPolicies overrides rq
+  case pModel pol of
+    IecController -> let (a, evs) = iecTrace False pol rq in Right (pol, a, evs)
+    MasterToolController -> (pol,,[]) <$> mastertoolEngine pol rq
 
 -- | The MasterTool XE controller's answer (a module called N times).
 mastertoolEngine :: Policies -> Request -> Either Text Answer

@@ -88,6 +88,7 @@ keptIterations = 3
 
 -- | A loop being run: how many of its iterations have begun.
 newtype LoopState = LoopState {lsIteration :: Int}
+  deriving (Eq, Show)
 
 -- | The events of a run so far (newest first), and the loops being run.
 data Tracer = Tracer
@@ -95,6 +96,7 @@ data Tracer = Tracer
   , trEvents :: [Event]
   , trLoops :: [LoopState]
   }
+  deriving (Eq, Show)
 
 -- | A tracer; with @True@ it keeps every iteration of every loop.
 newTracer :: Bool -> Tracer
@@ -126,6 +128,7 @@ emit ev t = case ev of
                 else push ev t'
     [] -> keep t
   Failure {} -> push ev t
+  Cycle _ -> push ev (t {trLoops = []})
   _ -> keep t
   where
     keep t' = if hidden t' then t' else push ev t'
@@ -150,8 +153,13 @@ data Item = Item
 -- branch, a loop's start, a call, an error); those left over (a line that
 -- never completed) stand alone.
 items :: [Event] -> [Item]
-items = go []
+items = quiet . go []
   where
+    -- a call statement adds nothing to its call's return
+    quiet = \case
+      a@(Item (Return l _ _) _ _ _) : Item (Statement l') [] [] [] : rest | l == l' -> quiet (a : rest)
+      x : rest -> x : quiet rest
+      [] -> []
     go pending [] = flush pending
     go pending (e : es) = case e of
       Read {} -> go (e : pending) es
@@ -197,7 +205,7 @@ renderText pol source = go 0
     go _ [] = []
     go depth (it : rest) = case itEvent it of
       Cycle n -> ("cycle " <> tshow n) : go 0 rest
-      Call l f args -> here depth l ("call " <> f <> parens (assigns args)) : go (depth + 1) rest
+      Call l f args -> here depth l ("call " <> f <> " " <> parens (assigns args)) : go (depth + 1) rest
       Return l f outs -> here (max 0 (depth - 1)) l (f <> " returns " <> commaList (assigns outs)) : go (max 0 (depth - 1)) rest
       LoopEnter {} -> render depth it ++ go (depth + 1) rest
       LoopExit {} -> render (max 0 (depth - 1)) it ++ go (max 0 (depth - 1)) rest
@@ -207,10 +215,10 @@ renderText pol source = go 0
       let l = lineOf (itEvent it)
           what = case itEvent it of
             Statement _ -> effects it
-            Branch _ b -> joinParts [reads it, b]
-            LoopEnter _ b -> joinParts [reads it, b]
-            Iteration _ n -> "iteration " <> tshow n
-            LoopExit _ n -> "loop ends after " <> tshow n <> " iteration" <> (if n == 1 then "" else "s")
+            Branch _ b -> joinParts [reads it, b, writes it]
+            LoopEnter _ b -> joinParts [reads it, b, writes it]
+            Iteration _ n -> joinParts ["iteration " <> tshow n, reads it, writes it]
+            LoopExit _ n -> joinParts ["loop ends after " <> tshow n <> " iteration" <> (if n == 1 then "" else "s"), reads it, writes it]
             Elided _ n -> "... " <> tshow n <> " more iteration" <> (if n == 1 then "" else "s") <> " not shown (--trace-all shows every one)"
             Failure _ rule msg -> "runtime error: " <> msg <> maybe "" (\r -> " (" <> r <> ")") rule
             Wrote _ n v -> n <> " := " <> v
@@ -229,7 +237,8 @@ renderText pol source = go 0
        in if T.null what then left else T.justifyLeft 44 ' ' left <> "  " <> what
     blank depth = T.replicate 8 " " <> T.replicate (2 * depth) " "
     reads it = commaList [n <> " = " <> v | (n, v) <- itReads it]
-    effects it = joinParts [reads it, if null (itWrites it) then "" else "-> " <> commaList [n <> " := " <> v | (n, v) <- itWrites it]]
+    writes it = if null (itWrites it) then "" else "-> " <> commaList [n <> " := " <> v | (n, v) <- itWrites it]
+    effects it = joinParts [reads it, writes it]
     ruleText d = "rule " <> T.intercalate ", " (citedRules pol d) <> ": " <> dSays d <> maybe "" (\p -> " (" <> p <> "=" <> alternative p <> ")") (dPolicy d)
     alternative p = fromMaybe "?" (lookup p (policyAssignments pol))
     joinParts = T.intercalate "; " . filter (not . T.null)

@@ -3,7 +3,9 @@
 -- virtual clock, observe variables by path. Pure.
 module Stref.IEC.Engine
   ( iecEngine
+  , iecTrace
   , runProgram
+  , runProgramTraced
   , Call (..)
   , RunResult (..)
   , parseVarPath
@@ -32,6 +34,7 @@ import Stref.IEC.Syntax
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
+import Stref.Trace (Event)
 import Stref.Verification (VerificationError (..))
 
 -- | What a run of cycles left: the checked program, the machine after the
@@ -58,11 +61,16 @@ data Call = Scan [(Text, Scalar)] | Reset ResetEvent
 -- and values), then runs the programs at clock (k-1) × cycle (§4.1). After a
 -- runtime error, policy @after-error@ decides whether later cycles run.
 runProgram :: Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text RunResult)
-runProgram pol file src choice cycle initial calls = do
+runProgram = runProgramTraced Nothing
+
+-- | 'runProgram', traced when given whether to keep every loop iteration
+-- ('traceOf' the result's machine gives the events, docs/trace.md).
+runProgramTraced :: Maybe Bool -> Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text RunResult)
+runProgramTraced traced pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
   pure $ do
-    let (started, initError) = initialize pol prog Nothing (initialMachine prog)
+    let (started, initError) = initialize pol prog Nothing (maybe id startTrace traced (initialMachine prog))
     m0 <- foldM (setPath pol prog) started initial
     let go m k err [] = Right (RunResult prog m err (k - 1))
         go m k err (Reset ev : rest) =
@@ -70,7 +78,7 @@ runProgram pol file src choice cycle initial calls = do
            in go m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) rest
         go m k err (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
-          let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) m1
+          let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) (traceCycle k m1)
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
           case stop of
             Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k)
@@ -136,7 +144,15 @@ observedTypes pol src program paths = case parseUnit pol "<case>" src >>= checkU
 
 -- | Answer one request of an IEC dialect.
 iecEngine :: Policies -> Request -> Answer
-iecEngine pol rq = either AnswerUnsupported id $ do
+iecEngine pol rq = either AnswerUnsupported fst (iecAnswer Nothing pol rq)
+
+-- | The answer to a request with the trace of its run (@stref conformance
+-- --explain@); every loop iteration kept when given @True@.
+iecTrace :: Bool -> Policies -> Request -> (Answer, [Event])
+iecTrace every pol rq = either (\e -> (AnswerUnsupported e, [])) id (iecAnswer (Just every) pol rq)
+
+iecAnswer :: Maybe Bool -> Policies -> Request -> Either Text (Answer, [Event])
+iecAnswer traced pol rq = do
   -- TC-POU-15, TC-VAR-7: the IEC model keeps program, FB and global state
   -- from cycle to cycle; re-initialising every call is the MasterTool
   -- controller's (policy lifetime), which this model does not have
@@ -147,14 +163,14 @@ iecEngine pol rq = either AnswerUnsupported id $ do
   let choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
       initial = M.toList (prInit (rqPlc rq))
   calls <- mapM callOf (rqCalls rq)
-  case runProgram pol (T.unpack (rqCase rq)) (rqSource rq) choice cycle initial calls of
-    Left (VerificationError k (Pos l _) msg) -> Right (AnswerRejected (Just l) (Just k) msg)
+  case runProgramTraced traced pol (T.unpack (rqCase rq)) (rqSource rq) choice cycle initial calls of
+    Left (VerificationError k (Pos l _) msg) -> Right (AnswerRejected (Just l) (Just k) msg, [])
     Right (Left e) -> Left e
     Right (Right r) ->
       let vars = M.fromList [(p, s) | p <- obsVars (rqObserve rq) ++ obsOperands (rqObserve rq), Just s <- [observe r p]]
           err = (\(_, StopFault (Pos l _) f) -> ErrorReport Nothing (Just (faultKind f)) (Just l) Nothing) <$> rrError r
           ob = Observation M.empty vars M.empty err
-       in Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob)
+       in Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) ob, traceOf (rrMachine r))
   where
     callOf c = case callReset c of
       Nothing -> Right (Scan (M.toList (callSet c)))

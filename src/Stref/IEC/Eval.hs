@@ -16,6 +16,10 @@ module Stref.IEC.Eval
   , resetEvents
   , resetMachine
   , restart
+    -- * Tracing
+  , startTrace
+  , traceCycle
+  , traceOf
   ) where
 
 import Control.Monad (forM, forM_, unless, when)
@@ -35,12 +39,13 @@ import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, cast
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
-import Stref.IEC.Operators (binary, unary, wrapUnder)
+import Stref.IEC.Operators (binaryWhy, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
-import Stref.IEC.Syntax (AssignOp (..), BinOp (..), EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
+import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
+import Stref.Trace
 
 -- | The controller's state between and during cycles.
 data Machine = Machine
@@ -50,6 +55,7 @@ data Machine = Machine
   , mMemory :: M.Map (Char, Integer) Integer -- ^ located bytes by area and address
   , mClock :: Integer -- ^ the virtual clock, milliseconds
   , mSteps :: Int -- ^ statements and loop tests executed in this cycle
+  , mTrace :: Maybe Tracer -- ^ the events of a traced run (docs/trace.md); Nothing: not traced
   }
   deriving (Eq, Show)
 
@@ -90,7 +96,7 @@ initialMachine prog =
       -- only explicit initial values: a default must not overwrite the
       -- initial value of another variable at the same bytes
       memory = foldl (\m (l, t, v) -> writeLocated l t v m) M.empty [x | x@(_, t, v) <- located, v /= defaultValue t]
-   in Machine globals programs M.empty memory 0 0
+   in Machine globals programs M.empty memory 0 0 Nothing
 
 -- | The controller's resets of Table 4-4 (NX-VAR-21, NX-VAR-22).
 data ResetEvent = WarmReset | ColdReset | OriginReset | Download
@@ -230,8 +236,85 @@ runCycle pol prog clock m0 =
       ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
-        Left (SigFault p f) -> (m', Just (StopFault p f))
+        Left (SigFault p f) -> (traceFault pol p f m', Just (StopFault p f))
         _ -> (outputs m', Nothing)
+
+------------------------------------------------------------------------------
+-- Tracing (docs/trace.md): events emitted where the meaning functions
+-- decide; without a tracer nothing is built
+
+-- | A machine whose runs are traced from now on; with @True@ every
+-- iteration of every loop is kept.
+startTrace :: Bool -> Machine -> Machine
+startTrace every m = m {mTrace = Just (newTracer every)}
+
+-- | Mark the start of a cycle in the trace.
+traceCycle :: Int -> Machine -> Machine
+traceCycle k m = m {mTrace = emit (Cycle k) <$> mTrace m}
+
+-- | The trace so far, oldest event first.
+traceOf :: Machine -> [Event]
+traceOf = maybe [] tracerEvents . mTrace
+
+-- | Emit an event, when the run is traced.
+note :: Event -> Eval ()
+note ev = do
+  t <- gets mTrace
+  case t of
+    Nothing -> pure ()
+    Just tr -> modify' (\m -> m {mTrace = Just (emit ev tr)})
+{-# INLINE note #-}
+
+tracing :: Eval Bool
+tracing = gets (isJust . mTrace)
+
+-- | A runtime error in the trace, with the rule that makes it one.
+traceFault :: Policies -> Pos -> Fault -> Machine -> Machine
+traceFault pol p f m = m {mTrace = emit (Failure (posLine p) rule (faultMessage f)) <$> mTrace m}
+  where
+    rule = case citedRules pol (decision (faultRules (faultKind f)) "") of
+      r : _ -> Just r
+      [] -> Nothing
+
+-- | The rules behind each kind of runtime error, in both IEC catalogues.
+faultRules :: Text -> [Text]
+faultRules = \case
+  "watchdog" -> ["TC-ERR-1", "NX-ERR-26"]
+  "division-by-zero" -> ["TC-OP-22", "NX-OP-29"]
+  "index-out-of-range" -> ["TC-ERR-3", "NX-ERR-9"]
+  "subrange" -> ["TC-TYPE-33", "NX-ERR-17"]
+  "overflow" -> ["TC-OP-20", "NX-OP-32"]
+  "null-pointer" -> ["NX-ERR-21"]
+  "conversion" -> ["TC-CONV-12", "NX-ERR-22"]
+  "call-depth" -> ["TC-ERR-6"]
+  _ -> []
+
+-- | A variable's name as the trace shows it: the steps from the program,
+-- frame or global it lies in.
+pathName :: RefPath -> Text
+pathName (RefPath root steps) = case root of
+  RootGlobal k -> k <> T.concat (map stepText steps)
+  RootLocated t -> t <> T.concat (map stepText steps)
+  RootProgram k | null steps -> k
+  _ -> T.drop 1 (T.concat (map stepText steps))
+  where
+    stepText = \case
+      StepField f -> "." <> f
+      StepIndex is -> "[" <> T.intercalate "," (map (T.pack . show) is) <> "]"
+      StepBit i -> "." <> T.pack (show i)
+      StepChar _ i -> "[" <> T.pack (show i) <> "]"
+
+refName :: CRef -> RefPath -> Text
+refName r path = case r of
+  CLocated l _ -> locText l
+  _ -> pathName path
+
+-- | Run a loop's iteration; when tracing, a signal that leaves the loop
+-- (RETURN, JMP, an error) first closes it in the trace.
+leaving :: Int -> Int -> Eval a -> Eval a
+leaving l k act = do
+  on <- tracing
+  if on then act `catchError` (\e -> note (LoopExit l k) >> throwError e) else act
 
 fault :: Pos -> Fault -> Eval a
 fault p f = throwError (SigFault p f)
@@ -288,7 +371,13 @@ callFB p c = do
   bindInOuts inst inouts
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  let callee = pathName inst <> " : " <> pdName d
+  note (Call (posLine p) callee [(k, renderValue v) | (k, v) <- inputs])
   local (\cx -> cx {cxSelf = inst, cxThis = inst, cxDepth = depth + 1}) (callBody d)
+  on <- tracing
+  when on $ do
+    outs <- forM [v | v <- pdVars d, viSection v == SecOutput] $ \v -> (viName v,) . renderValue <$> getPath (extend inst (StepField (viKey v)))
+    note (Return (posLine p) callee outs)
   copyBack inst inouts
   copyOutputs p inst (fcOutputs c)
 
@@ -367,11 +456,13 @@ callFunctionWith p d this inputs refs outs = do
   modify' (\m -> m {mFrames = M.insert (depth + 1) (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])) (mFrames m)})
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend frame (StepField k)) v
   bindInOuts frame refs
+  note (Call (posLine p) (pdName d) [(k, renderValue v) | (k, v) <- inputs])
   local (\cx -> cx {cxSelf = frame, cxThis = fromMaybe (cxThis cx) this, cxDepth = depth + 1}) (callBody d)
   copyBack frame refs
   -- NX-POU-13: the outputs bound with => are copied after the body
   copyOutputs p frame outs
   result <- getPath (extend frame (StepField (key (pdName d))))
+  note (Return (posLine p) (pdName d) [(pdName d, renderValue result)])
   modify' (\m -> m {mFrames = M.delete (depth + 1) (mFrames m)})
   pure result
 
@@ -426,47 +517,68 @@ exec = \case
     v <- eval e
     target <- local (\c -> c {cxWriting = True}) (refPath p r)
     storeTarget p t r target v
-  CCallFB p c -> tick p >> callFB p c
-  CEval p e -> tick p >> () <$ eval e
+    note (Statement (posLine p))
+  CCallFB p c -> tick p >> callFB p c >> note (Statement (posLine p))
+  CEval p e -> tick p >> eval e >> note (Statement (posLine p))
   CIf p arms els -> do
     -- TC-STMT-9
     tick p
-    let go [] = execBlock els
-        go ((c, b) : rest) = do
+    let go _ [] = do
+          unless (null els) $ note (Branch (posLine p) "no condition is TRUE: ELSE runs")
+          execBlock els
+        go k ((c, b) : rest) = do
           v <- eval c
-          if asBool v then execBlock b else go rest
-    go arms
+          let arm = if k == (1 :: Int) then "THEN" else "ELSIF branch " <> T.pack (show k)
+          note (Branch (posLine (cePos c)) (if asBool v then "condition TRUE: " <> arm <> " runs" else "condition FALSE"))
+          if asBool v then execBlock b else go (k + 1) rest
+    go 1 arms
   CCase p sel arms els -> do
     -- TC-STMT-11..13: the first group whose labels hold the value
     tick p
     v <- eval sel
     let o = ordinal (ceType sel) v
-    case find (\(ranges, _) -> any (\(lo, hi) -> o >= lo && o <= hi) ranges) arms of
-      Just (_, b) -> execBlock b
+        which = find (\(_, (ranges, _)) -> any (\(lo, hi) -> o >= lo && o <= hi) ranges) (zip [1 :: Int ..] arms)
+    note . Branch (posLine p) $ "selector " <> renderValue v <> ": " <> case which of
+      Just (k, _) -> "the labels of branch " <> T.pack (show k) <> " hold it"
+      Nothing -> if null els then "no label holds it: nothing runs" else "no label holds it: ELSE runs"
+    case which of
+      Just (_, (_, b)) -> execBlock b
       Nothing -> execBlock els
   CFor p r t start end step body -> forLoop p r t start end step body
   CWhile p c body -> do
     -- TC-STMT-32
-    let loop = do
+    let l = posLine p
+        loop k = do
           tick p
           v <- eval c
-          when (asBool v) $ do
-            continue <- loopBody body
-            when continue loop
-    loop
+          if asBool v
+            then do
+              note (Iteration l k)
+              continue <- leaving l k (loopBody body)
+              if continue then loop (k + 1) else note (LoopExit l k)
+            else note (LoopExit l (k - 1))
+    note (Rule l (decision ["TC-STMT-32", "NX-STMT-27"] "the condition is tested before each iteration"))
+    note (LoopEnter l "WHILE")
+    loop 1
   CRepeat p body c -> do
     -- TC-STMT-33: at least once, until the condition holds
-    let loop = do
-          continue <- loopBody body
-          when continue $ do
-            tick p
-            v <- eval c
-            unless (asBool v) loop
-    loop
-  CExit p -> tick p >> throwError SigExit
-  CReturn p -> tick p >> throwError SigReturn
-  CContinue p -> tick p >> throwError SigContinue -- NX-STMT-35
-  CJump p l -> tick p >> throwError (SigJump l) -- NX-STMT-42
+    let l = posLine p
+        loop k = do
+          note (Iteration l k)
+          continue <- leaving l k (loopBody body)
+          if continue
+            then do
+              tick p
+              v <- eval c
+              if asBool v then note (LoopExit l k) else loop (k + 1)
+            else note (LoopExit l k)
+    note (Rule l (decision ["TC-STMT-33", "NX-STMT-31"] "the body runs first, the condition is tested after each iteration"))
+    note (LoopEnter l "REPEAT")
+    loop 1
+  CExit p -> tick p >> note (Statement (posLine p)) >> throwError SigExit
+  CReturn p -> tick p >> note (Statement (posLine p)) >> throwError SigReturn
+  CContinue p -> tick p >> note (Statement (posLine p)) >> throwError SigContinue -- NX-STMT-35
+  CJump p l -> tick p >> note (Statement (posLine p)) >> throwError (SigJump l) -- NX-STMT-42
   CLabel _ _ -> pure ()
   CChain p e targets -> do
     -- NX-STMT-6..9: from the rightmost target to the leftmost
@@ -489,6 +601,7 @@ exec = \case
               when (asBool v) (storeTarget p t r target (VBool False))
               go v rest
     go v0 (reverse targets)
+    note (Statement (posLine p))
 
 -- | A loop body; False when EXIT left the loop (TC-STMT-36, TC-STMT-37).
 loopBody :: [CStmt] -> Eval Bool
@@ -516,39 +629,55 @@ forLoop :: Pos -> CRef -> Type -> CExpr -> CExpr -> Maybe CExpr -> [CStmt] -> Ev
 forLoop p r t start end step body = do
   pol <- asks cxPol
   let stepOf = maybe (pure (VInt (fromMaybe DINT (baseElem t)) 1)) eval step -- TC-STMT-22
+      l = posLine p
   s0 <- eval start
   target <- refPath p r
   storeTarget p t r target s0
   e0 <- eval end
   st0 <- stepOf
+  -- TC-STMT-26, TC-STMT-27 (open): policy for-bounds
+  note . Rule l . ruled ["TC-STMT-26", "TC-STMT-27", "NX-STMT-25"] "for-bounds" $ case pForBounds pol of
+    ForOnce -> "the final value and the step are evaluated once, before the first test"
+    ForEveryIteration -> "the final value and the step are evaluated again at every test"
+  note (LoopEnter l (refName r target <> " from " <> renderValue s0 <> " to " <> renderValue e0 <> " by " <> renderValue st0))
   let current once expr = case pForBounds pol of
         ForOnce -> pure once
         ForEveryIteration -> expr
-      loop = do
+      loop k = do
         tick p
         e <- current e0 (eval end)
         st <- current st0 stepOf
         i <- getRef p r target
         let n = intOf i
             goOn = if intOf st >= 0 then n <= intOf e else n >= intOf e
-        when goOn $ do
-          continue <- loopBody body
-          when continue $ do
-            i' <- getRef p r target
-            stNow <- current st0 stepOf
-            let elemT = fromMaybe DINT (valueElem i')
-                next = intOf i' + intOf stNow
-                -- a subrange's bounds are its type's limits (NX-STMT-22)
-                fits = case t of
-                  TSubrange _ lo hi -> next >= lo && next <= hi
-                  _ -> fitInt elemT next
-            if not fits && pForAtTypeMax pol == StopAtEnd
-              then pure ()
+        if not goOn
+          then note (LoopExit l (k - 1))
+          else do
+            note (Iteration l k)
+            continue <- leaving l k (loopBody body)
+            if not continue
+              then note (LoopExit l k)
               else do
-                v <- orFault p (binary pol BAdd i' (VInt elemT (intOf stNow)))
-                storeTarget p t r target v
-                loop
-  loop
+                i' <- getRef p r target
+                stNow <- current st0 stepOf
+                let elemT = fromMaybe DINT (valueElem i')
+                    next = intOf i' + intOf stNow
+                    -- a subrange's bounds are its type's limits (NX-STMT-22)
+                    fits = case t of
+                      TSubrange _ lo hi -> next >= lo && next <= hi
+                      _ -> fitInt elemT next
+                    ends = not fits && pForAtTypeMax pol == StopAtEnd
+                -- TC-STMT-31 (open): policy for-at-type-max
+                unless fits . note . Rule l . ruled ["TC-STMT-31", "NX-STMT-21"] "for-at-type-max" $
+                  renderValue i' <> " + " <> T.pack (show (intOf stNow)) <> " leaves the type of the control variable: "
+                    <> (if ends then "the loop ends" else "the increment follows the overflow policy")
+                if ends
+                  then note (LoopExit l k)
+                  else do
+                    v <- operate p BAdd i' (VInt elemT (intOf stNow))
+                    storeTarget p t r target v
+                    loop (k + 1)
+  loop 1
   where
     intOf = \case
       VInt _ n -> n
@@ -562,7 +691,9 @@ eval ce = case ceNode ce of
   CConst v -> pure v
   CRead r -> do
     path <- refPath (cePos ce) r
-    getRef (cePos ce) r path
+    v <- getRef (cePos ce) r path
+    note (Read (posLine (cePos ce)) (refName r path) (renderValue v))
+    pure v
   CUnary o a -> do
     pol <- asks cxPol
     v <- eval a
@@ -571,16 +702,17 @@ eval ce = case ceNode ce of
     pol <- asks cxPol
     x <- eval a
     -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first
+    let skipped = x <$ note (Rule (posLine (cePos ce)) (ruled ["TC-OP-6", "NX-OP-22"] "short-circuit" (binOpSymbol o <> " with " <> renderValue x <> " on the left: the right operand is not evaluated")))
     case (o, x, pShortCircuit pol) of
-      (BAnd, VBool False, ShortCircuit) -> pure x
-      (BOr, VBool True, ShortCircuit) -> pure x
+      (BAnd, VBool False, ShortCircuit) -> skipped
+      (BOr, VBool True, ShortCircuit) -> skipped
       _ -> do
         y0 <- eval b
         -- NX-ERR-11..13: CheckDiv*'s result is the divisor
         y <- case (o, baseElem (ceType b) >>= checkDivName) of
           (BDiv, Just name) -> implicitCheck (cePos ce) name [y0] >>= maybe (pure y0) (orFault (cePos ce) . convertValue pol (ceType b))
           _ -> pure y0
-        orFault (cePos ce) (binary pol o x y)
+        operate (cePos ce) o x y
   -- NX-CONV-35: TRUNC in a context of another integer type truncates into
   -- that type: beyond it, real-to-int's saturate/wrap half decides
   CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [x])) | isInt e -> do
@@ -627,6 +759,16 @@ eval ce = case ceNode ce of
     path <- refPath (cePos ce) r
     a <- addressOf path
     maybe (fault (cePos ce) (Fault "null-pointer" "this variable has no address")) (pure . VInt DWORD) a
+
+-- | A binary operator's value; where a policy decided it, the rule goes to
+-- the trace.
+operate :: Pos -> BinOp -> Value -> Value -> Eval Value
+operate p o x y = do
+  pol <- asks cxPol
+  let (r, why) = binaryWhy pol o x y
+  on <- tracing
+  when on $ mapM_ (note . Rule (posLine p)) why
+  orFault p r
 
 -- | A method, accessor or action called on an instance (NX-POU-25..43):
 -- which one runs is the instance's own type's (or the nearest base's) for a
@@ -714,7 +856,9 @@ refPath p = \case
           if n >= lo && n <= hi
             then pure n
             else case pIndexOutOfRange pol of
-              IndexClamp -> pure (max lo (min hi n))
+              IndexClamp -> do
+                note (Rule (posLine p) (ruled ["TC-ERR-3", "NX-ERR-9"] "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": clamped to " <> T.pack (show (max lo (min hi n))))))
+                pure (max lo (min hi n))
               _ -> fault p (Fault "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside the bounds " <> T.pack (show lo) <> ".." <> T.pack (show hi)))
         pure (extend base (StepIndex checked))
       _ -> pure (extend base (StepIndex ns))
@@ -766,6 +910,7 @@ storeTarget p t r path v = do
   case r of
     CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v' (mMemory m)})
     _ -> putPath path v'
+  note (Wrote (posLine p) (refName r path) (renderValue v'))
 
 storePath :: Pos -> Type -> RefPath -> Value -> Eval ()
 storePath p t path v = fitValue p t v >>= putPath path
@@ -776,18 +921,26 @@ fitValue p t v = do
   case (t, v) of
     (TString _ cap, VString s)
       | T.length s > cap -> case pStringOverflow pol of
-          StringTruncate -> pure (VString (T.take cap s)) -- TC-TYPE-27
+          StringTruncate -> do
+            -- TC-TYPE-27
+            note (Rule (posLine p) (ruled ["TC-TYPE-27", "NX-TYPE-27"] "string-overflow" ("a string of " <> T.pack (show (T.length s)) <> " characters is cut to the capacity " <> T.pack (show cap))))
+            pure (VString (T.take cap s))
           StringOverflowError -> fault p (Fault "index-out-of-range" ("a string of " <> T.pack (show (T.length s)) <> " characters does not fit a STRING[" <> T.pack (show cap) <> "]"))
     -- a value computed wider than its type (arith-width = promote-32) is
     -- narrowed on the store, by the policy narrow-int
     (TElem e, VInt _ n)
-      | isInt e && not (fitInt e n) -> pure (VInt e (case pNarrowInt pol of
-          NarrowWrap -> wrapInt e n
-          NarrowSaturate -> let (lo, hi) = intRange e in max lo (min hi n)))
+      | isInt e && not (fitInt e n) -> do
+          let n' = case pNarrowInt pol of
+                NarrowWrap -> wrapInt e n
+                NarrowSaturate -> let (lo, hi) = intRange e in max lo (min hi n)
+          note (Rule (posLine p) (ruled ["TC-CONV-13", "NX-ERR-23"] "narrow-int" (T.pack (show n) <> " does not fit " <> elemName e <> ": stored as " <> T.pack (show n'))))
+          pure (VInt e n')
     (TSubrange e lo hi, VInt _ n0) -> do
       -- NX-ERR-15, NX-ERR-16: CheckRangeSigned/Unsigned's result is stored
       let name = if isSignedInt e then "CHECKRANGESIGNED" else "CHECKRANGEUNSIGNED"
       n <- maybe n0 intValue <$> implicitCheck p name [VInt DINT n0, VInt DINT lo, VInt DINT hi]
+      when ((n < lo || n > hi) && pSubrange pol == SubrangeUnchecked) $
+        note (Rule (posLine p) (ruled ["TC-TYPE-33", "NX-ERR-17"] "subrange" (T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": stored unchecked")))
       if (n < lo || n > hi) && pSubrange pol == SubrangeError
         then fault p (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)"))
         else pure (VInt e (wrapInt e n))

@@ -18,6 +18,7 @@ module Stref.IEC.Operators
   , unOpSymbol
     -- * Meaning
   , binary
+  , binaryWhy
   , unary
     -- * Shared with the standard functions and the conversions
   , intResult
@@ -44,6 +45,7 @@ import Stref.IEC.Syntax (BinOp (..), UnOp (..), binOpSymbol)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
+import Stref.Trace (Decision, ruled)
 
 ------------------------------------------------------------------------
 -- Typing
@@ -178,37 +180,58 @@ maxStringLength = 65535
 
 -- | @a op b@ on values of the types 'binaryType' accepts.
 binary :: Policies -> BinOp -> Value -> Value -> Either Fault Value
-binary p BPow a b = power p a b
-binary p op a b = case (a, b) of
+binary p op a b = fst (binaryWhy p op a b)
+
+-- | 'binary' with the rules that decided its outcome where a policy did
+-- (integer overflow, division and MOD by zero): what a trace shows.
+binaryWhy :: Policies -> BinOp -> Value -> Value -> (Either Fault Value, [Decision])
+binaryWhy p BPow a b = (power p a b, [])
+binaryWhy p op a b = case (a, b) of
   (VInt e x, VInt e' y) | e == e' -> intBinary p op e x y
-  (VReal x, VReal y) -> realBinary p VReal op x y
-  (VLReal x, VLReal y) -> realBinary p VLReal op x y
-  (VBool x, VBool y) -> boolBinary op x y
-  (VString x, VString y) -> stringBinary op x y
-  (VEnum t x, VEnum t' y) | T.toUpper t == T.toUpper t' -> enumBinary op x y
-  _ -> timeBinary p op a b
+  (VReal x, VReal y) -> plain (realBinary p VReal op x y)
+  (VLReal x, VLReal y) -> plain (realBinary p VLReal op x y)
+  (VBool x, VBool y) -> plain (boolBinary op x y)
+  (VString x, VString y) -> plain (stringBinary op x y)
+  (VEnum t x, VEnum t' y) | T.toUpper t == T.toUpper t' -> plain (enumBinary op x y)
+  _ -> plain (timeBinary p op a b)
+  where
+    plain r = (r, [])
 
 -- | Integers (ANY_INT) and bit strings (ANY_BIT without BOOL).
-intBinary :: Policies -> BinOp -> Elem -> Integer -> Integer -> Either Fault Value
+intBinary :: Policies -> BinOp -> Elem -> Integer -> Integer -> (Either Fault Value, [Decision])
 intBinary p op e x y = case op of
-  BAdd -> intResult p e (x + y)
-  BSub -> intResult p e (x - y)
-  BMul -> intResult p e (x * y)
+  BAdd -> fitted (x + y)
+  BSub -> fitted (x - y)
+  BMul -> fitted (x * y)
   BDiv
-    | y == 0 -> divisionByZero p (VInt e 0) -- TC-OP-22
+    | y == 0 ->
+        -- TC-OP-22
+        ( divisionByZero p (VInt e 0)
+        , [ruled ["TC-OP-22", "NX-OP-29"] "div-zero" (expression <> ": division by zero " <> either (const "is a runtime error") (const "gives 0") (divisionByZero p (VInt e 0)))]
+        )
     -- TC-OP-21: truncation toward zero (mod-sign=dividend) or the floor of
     -- the euclidean division; only the most negative value / -1 leaves the
     -- range, and then the overflow policy decides.
-    | otherwise -> intResult p e (divideInt (pModSign p) x y)
+    | otherwise -> fitted (divideInt (pModSign p) x y)
   BMod
     | y == 0 -> case pModZero p of -- TC-OP-24
-        ModZeroZero -> Right (VInt e 0)
-        ModZeroError -> Left (Fault "division-by-zero" "MOD by zero")
-    | otherwise -> intResult p e (moduloInt (pModSign p) x y) -- TC-OP-23
-  BAnd -> Right (VInt e (x .&. y)) -- TC-OP-39: bit by bit
-  BOr -> Right (VInt e (x .|. y))
-  BXor -> Right (VInt e (x `xor` y))
-  _ -> VBool <$> compareWith op x y
+        ModZeroZero -> (Right (VInt e 0), [modZero "gives 0"])
+        ModZeroError -> (Left (Fault "division-by-zero" "MOD by zero"), [modZero "is a runtime error"])
+    | otherwise -> fitted (moduloInt (pModSign p) x y) -- TC-OP-23
+  BAnd -> (Right (VInt e (x .&. y)), []) -- TC-OP-39: bit by bit
+  BOr -> (Right (VInt e (x .|. y)), [])
+  BXor -> (Right (VInt e (x `xor` y)), [])
+  _ -> (VBool <$> compareWith op x y, [])
+  where
+    expression = T.pack (show x) <> " " <> binOpSymbol op <> " " <> T.pack (show y)
+    fitted n =
+      let r = intResult p e n
+          -- TC-OP-20, NX-OP-32: the exact result left the type
+          left = case r of
+            Right (VInt _ m) -> m /= n
+            _ -> True
+       in (r, [ruled ["TC-OP-20", "NX-OP-32", "NX-ERR-24"] "overflow" (expression <> " = " <> T.pack (show n) <> " lies outside " <> elemName e <> ": " <> either (const "a runtime error") (\v -> "the result is " <> renderValue v) r) | left, not (isBitString e)])
+    modZero what = ruled ["TC-OP-24", "NX-DIFF-8"] "mod-zero" (expression <> ": MOD by zero " <> what)
 
 -- | The quotient: truncated toward zero (@mod-sign=dividend@, TC-OP-21) or
 -- euclidean (the remainder is never negative). Always

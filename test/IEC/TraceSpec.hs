@@ -1,0 +1,114 @@
+-- | The trace of IEC runs (docs/trace.md): the lines, values and rule ids a
+-- known program's trace must show, worked out by hand from the rules
+-- named; and that tracing changes no result (the whole IEC corpus, traced
+-- and not).
+module IEC.TraceSpec (spec) where
+
+import qualified Data.Aeson as A
+import qualified Data.ByteString.Lazy as BL
+import Data.Maybe (isJust)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.Encoding as TE
+import Stref.Conformance.Case (Case (..), effectiveExpect)
+import Stref.Conformance.Corpus
+import Stref.Conformance.Runner (buildRequest, casePolicies, defaultRunOptions)
+import Stref.IEC.Check (ProgramChoice (..))
+import Stref.IEC.Engine
+import Stref.IEC.Eval (traceOf)
+import Stref.Policy
+import Stref.Trace
+import Test.Hspec
+
+-- | The trace of a program over some cycles, as text lines.
+traced :: Bool -> Policies -> Text -> Int -> [Text]
+traced every pol src n = case runProgramTraced (Just every) pol "trace.st" src ProgramsOfConfiguration 10 [] (replicate n (Scan [])) of
+  Right (Right r) -> renderText pol line (items (traceOf (rrMachine r)))
+  other -> error ("the program did not run: " <> show (fmap (fmap rrCycles) other))
+  where
+    line l = case drop (l - 1) (T.lines src) of
+      x : _ -> x
+      [] -> ""
+
+-- | Lines 1..: the overflow of line 9 in the second iteration.
+accumulate :: Text
+accumulate =
+  T.unlines
+    [ "PROGRAM MAIN"
+    , "VAR"
+    , "  acc : DINT := 2147483000;"
+    , "  v : ARRAY[1..3] OF DINT := [100, 300, 500];"
+    , "  i : INT;"
+    , "END_VAR"
+    , "FOR i := 1 TO 3 DO"
+    , "  (* the second iteration leaves DINT *)"
+    , "  acc := acc + v[i] * 3;"
+    , "END_FOR;"
+    , "END_PROGRAM"
+    ]
+
+counting :: Text
+counting = "PROGRAM MAIN\nVAR cnt : INT; END_VAR\nWHILE cnt < 10 DO\n  cnt := cnt + 1;\nEND_WHILE;\nEND_PROGRAM\n"
+
+outOfBounds :: Text
+outOfBounds = "PROGRAM MAIN\nVAR arr : ARRAY[0..2] OF INT; ix : INT := 5; END_VAR\narr[ix] := 1;\nEND_PROGRAM\n"
+
+has :: [Text] -> Text -> Bool
+has ls x = any (x `T.isInfixOf`) ls
+
+spec :: Spec
+spec = describe "IEC.Trace" $ do
+  describe "a known program's text trace" $ do
+    let sat = traced False tecomat {pOverflow = Saturate} accumulate 1
+    it "shows the statement of line 9 with the values it read and wrote" $ do
+      sat `shouldSatisfy` (`has` "9 |   acc := acc + v[i] * 3;")
+      -- 2147483300 + 300 * 3 = 2147484200 > 2^31 - 1
+      sat `shouldSatisfy` (`has` "ACC = 2147483300, I = 2, V[2] = 300; -> ACC := 2147483647")
+    it "cites the overflow rule of the tecomat catalogue with the alternative in force (TC-OP-20)" $
+      sat `shouldSatisfy` (`has` "rule TC-OP-20: 2147483300 + 900 = 2147484200 lies outside DINT: the result is 2147483647 (overflow=saturate)")
+    it "under overflow=wrap the same rule gives the wrapped value" $
+      traced False tecomat {pOverflow = Wrap} accumulate 1 `shouldSatisfy` (`has` "the result is -2147483096 (overflow=wrap)")
+    it "under nexto cites the nexto catalogue's ids (NX-OP-32)" $
+      traced False nexto accumulate 1 `shouldSatisfy` (`has` "rule NX-OP-32, NX-ERR-24: ")
+    it "shows the FOR bounds and the for-bounds decision (TC-STMT-26)" $ do
+      sat `shouldSatisfy` (`has` "I from 1 to 3 by 1")
+      sat `shouldSatisfy` (`has` "rule TC-STMT-26, TC-STMT-27: the final value and the step are evaluated again at every test (for-bounds=every-iteration)")
+      traced False tecomat {pForBounds = ForOnce} accumulate 1 `shouldSatisfy` (`has` "evaluated once, before the first test (for-bounds=once)")
+    it "marks each cycle" $
+      filter (== "cycle 2") (traced False tecomat accumulate 2) `shouldBe` ["cycle 2"]
+  describe "long loops" $ do
+    it "show their first 3 iterations, then a count" $ do
+      let t = traced False tecomat counting 1
+      length (filter ("cnt := cnt + 1;" `T.isInfixOf`) t) `shouldBe` 3
+      t `shouldSatisfy` (`has` "... 7 more iterations not shown")
+      t `shouldSatisfy` (`has` "loop ends after 10 iterations")
+    it "show every iteration with --trace-all" $ do
+      let t = traced True tecomat counting 1
+      length (filter ("cnt := cnt + 1;" `T.isInfixOf`) t) `shouldBe` 10
+      t `shouldNotSatisfy` (`has` "not shown")
+  describe "runtime errors" $ do
+    it "show the rule that makes them one (TC-ERR-3)" $
+      traced False tecomat outOfBounds 1 `shouldSatisfy` (`has` "runtime error: the index 5 lies outside the bounds 0..2 (TC-ERR-3)")
+    it "under index-out-of-range=clamp the clamp is a rule decision instead" $
+      traced False tecomat {pIndexOutOfRange = IndexClamp} outOfBounds 1 `shouldSatisfy` (`has` "the index 5 lies outside 0..2: clamped to 2 (index-out-of-range=clamp)")
+  describe "the JSON event stream" $ do
+    let Right (Right r) = runProgramTraced (Just False) tecomat {pOverflow = Saturate} "trace.st" accumulate ProgramsOfConfiguration 10 [] [Scan []]
+        jsonLines = renderJsonLines tecomat {pOverflow = Saturate} (items (traceOf (rrMachine r)))
+        decoded = map (A.decode . BL.fromStrict . TE.encodeUtf8) jsonLines :: [Maybe A.Value]
+    it "is one JSON object per line" $
+      decoded `shouldSatisfy` all isJust
+    it "gives a statement its reads, writes and rules with policy and alternative" $
+      jsonLines `shouldSatisfy` (`has` "{\"alternative\":\"saturate\",\"policy\":\"overflow\",\"rules\":[\"TC-OP-20\"]")
+  describe "tracing changes no result" $
+    it "every tecomat and nexto corpus case gives the same answer traced and not" $ do
+      corpus <- loadCorpus ["conformance/tecomat", "conformance/nexto"]
+      let cases = [c | Loaded c <- corpusEntries corpus]
+          differing =
+            [ caseId c
+            | c <- cases
+            , Right pol <- [casePolicies defaultRunOptions c]
+            , let rq = buildRequest pol c (effectiveExpect pol c)
+            , fst (iecTrace False pol rq) /= iecEngine pol rq
+            ]
+      length cases `shouldSatisfy` (> 1000)
+      differing `shouldBe` []
