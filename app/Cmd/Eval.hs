@@ -14,13 +14,14 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr)
 import Cmd.Common
-import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, isIecDialect)
+import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, evalIecTrace, isIecDialect, sourceLine)
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
 import Stref.Policy
 import Stref.Run
 import Stref.Types (typeName)
 import Stref.Values
+import Stref.Trace (Item, parting, renderText)
 
 data Options = Options
   { optSnippet :: String
@@ -28,6 +29,7 @@ data Options = Options
   , optPolicies :: [String]
   , optDialect :: String
   , optCalls :: Int
+  , optTrace :: TraceFlags
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -46,6 +48,7 @@ options =
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
     <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect runs the snippet as the body of PROGRAM MAIN)")
     <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "IEC dialects: the number of scan cycles")
+    <*> traceFlags
 
 -- | One run's observable outcome, as lines of (label, value).
 data Observed = Observed
@@ -76,9 +79,16 @@ run :: Options -> IO ExitCode
 run o = case dialectPolicies (optDialect o) (optPolicies o) of
   Left msg -> usageError "eval" msg
   Right pol | isIecDialect pol -> case optCompare o of
-    Nothing -> evalIec pol (T.pack (optSnippet o)) (optCalls o)
+    Nothing -> evalIec pol (T.pack (optSnippet o)) (optCalls o) (traceRequest (optTrace o))
     Just name -> case alternativesOf (T.pack name) pol of
       Left msg -> usageError "eval" msg
+      Right alts | Just _ <- traceRequest (optTrace o) -> do
+        let traces = [(alt, p, evalIecTrace p (T.pack (optSnippet o)) (optCalls o)) | (alt, p) <- alts]
+        case [(alt, p, src, its) | (alt, p, Just (src, its)) <- traces] of
+          ran@((_, _, src, _) : _) -> do
+            mapM_ TIO.putStrLn (compareTraces (T.pack name) (sourceLine src) [(alt, p, its) | (alt, p, _, its) <- ran])
+            pure ExitSuccess
+          [] -> usageError "eval" "the snippet is rejected under every alternative"
       Right alts -> do
         let cols = [(alt, (\rows -> Observed rows False) <$> evalIecRows p (T.pack (optSnippet o)) (optCalls o)) | (alt, p) <- alts]
         TIO.putStr (sideBySide (T.pack name) cols)
@@ -110,6 +120,25 @@ runMasterTool o = case applyPolicies (optPolicies o) of
     rejected src failure = do
       TIO.hPutStr stderr (renderRunFailure "<eval>" src failure)
       pure (ExitFailure 1)
+
+-- | @eval --compare POLICY --trace@: the traces up to the first item where
+-- the alternatives part (the last few shared items, for context), then
+-- each alternative's trace from there.
+compareTraces :: Text -> (Int -> Text) -> [(Text, Policies, [Item])] -> [Text]
+compareTraces policy source runs = case parting [its | (_, _, its) <- runs] of
+  Nothing -> ["the traces under every alternative of " <> policy <> " are the same"]
+  Just k ->
+    let (_, p0, its0) = head runs
+        shared = take k its0
+     in ["the alternatives of " <> policy <> " agree on the first " <> T.pack (show k) <> " trace items; the last ones:"]
+          ++ map ("  " <>) (renderText p0 source (drop (k - contextItems) shared))
+          ++ concat
+            [ "" : ("under " <> policy <> "=" <> alt <> ":") : map ("  " <>) (renderText p source (take shownItems (drop k its)))
+            | (alt, p, its) <- runs
+            ]
+  where
+    contextItems = 3
+    shownItems = 6
 
 -- | A table: one column per alternative, one row per observed item; rows
 -- whose values differ are marked with @*@.

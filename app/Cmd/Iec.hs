@@ -9,6 +9,8 @@ module Cmd.Iec
   , runIec
   , evalIec
   , evalIecRows
+  , evalIecTrace
+  , sourceLine
   , RunIecOptions (..)
   , compareIec
   ) where
@@ -18,6 +20,7 @@ import Data.Aeson ((.=))
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.ByteString.Lazy.Char8 as BL
+import Data.Char (isAlpha, isAlphaNum, toUpper)
 import Data.List (sortOn)
 import Data.Scientific (floatingOrInteger)
 import qualified Data.Map.Strict as M
@@ -36,7 +39,7 @@ import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (TIME))
 import Stref.IEC.Values
 import Stref.Policy
-import Stref.Trace (items, renderJsonLines, renderText, watching)
+import Stref.Trace (Item, items, renderJsonLines, renderText, watching)
 import Stref.Verification (renderError)
 import Cmd.Common (rejectionJson)
 
@@ -256,10 +259,49 @@ scalarText = \case
 
 -- | @stref eval --dialect tecomat SNIPPET@: VAR blocks and statements as
 -- the body of a PROGRAM, run for N cycles.
-evalIec :: Policies -> Text -> Int -> IO ExitCode
-evalIec pol snippet calls = do
-  let src = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
-  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False Nothing)
+evalIec :: Policies -> Text -> Int -> Maybe (Bool, [Text]) -> IO ExitCode
+evalIec pol snippet calls traced = do
+  let src = snippetProgram (maybe snippet (const (oneStatementALine snippet)) traced)
+  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False traced)
+
+-- | A snippet as the body of PROGRAM MAIN (its line 1 is the program's 2).
+snippetProgram :: Text -> Text
+snippetProgram snippet = "PROGRAM MAIN\n" <> snippet <> "\nEND_PROGRAM\n"
+
+-- | A one-line snippet with a line break after each semicolon, END_VAR,
+-- DO, THEN, ELSE and REPEAT outside strings and comments, so that a trace shows one
+-- statement a line.
+oneStatementALine :: Text -> Text
+oneStatementALine = T.strip . T.pack . go . T.unpack
+  where
+    go = \case
+      [] -> []
+      '\'' : rest -> quoted '\'' rest
+      '"' : rest -> quoted '"' rest
+      '(' : '*' : rest -> let (c, rest') = breakOn "*)" rest in "(*" <> c <> go rest'
+      '/' : '/' : rest -> let (c, rest') = break (== '\n') rest in "//" <> c <> go rest'
+      ';' : rest -> ";\n" <> go (dropWhile (== ' ') rest)
+      c : rest
+        | isAlpha c || c == '_' ->
+            let (word, rest') = span (\x -> isAlphaNum x || x == '_') (c : rest)
+             in if map toUpper word `elem` ["END_VAR", "DO", "THEN", "ELSE", "REPEAT"]
+                  then word <> "\n" <> go (dropWhile (== ' ') rest')
+                  else word <> go rest'
+        | otherwise -> c : go rest
+    quoted q rest = let (str, rest') = break (== q) rest in q : str <> take 1 rest' <> go (drop 1 rest')
+    breakOn end xs = case xs of
+      [] -> ([], [])
+      _ | take 2 xs == end -> (end, drop 2 xs)
+      x : more -> let (a, b) = breakOn end more in (x : a, b)
+
+-- | The program a snippet makes and the items of its trace over N cycles;
+-- Nothing when rejected.
+evalIecTrace :: Policies -> Text -> Int -> Maybe (Text, [Item])
+evalIecTrace pol snippet calls =
+  let src = snippetProgram (oneStatementALine snippet)
+   in case runProgramTraced (Just False) pol "<snippet>" src ProgramsOfConfiguration 10 [] (replicate (max 1 calls) (Scan [])) of
+        Right (Right r) -> Just (src, items (traceOf (rrMachine r)))
+        _ -> Nothing
 
 -- | The rows a snippet leaves (every variable, then the error), for
 -- @stref eval --dialect tecomat --compare POLICY@; Nothing when rejected.

@@ -27,6 +27,7 @@ module Stref.Trace
   , itemJson
   , renderJsonLines
   , watching
+  , parting
   ) where
 
 import qualified Data.Aeson as A
@@ -294,3 +295,22 @@ watching names = filter keep
 
 tshow :: Show a => a -> Text
 tshow = T.pack . show
+
+-- | The number of items several traces share from their start, when they
+-- part (a value, a branch or a rule's outcome differs); Nothing when they
+-- are the same throughout.
+parting :: [[Item]] -> Maybe Int
+parting traces = go 0 traces
+  where
+    go k ts = case mapM uncons' ts of
+      Nothing
+        | all null ts -> Nothing
+        | otherwise -> Just k -- one ended before the others
+      Just heads
+        | all (== head firsts) firsts -> go (k + 1) (map snd heads)
+        | otherwise -> Just k
+        where
+          firsts = map fst heads
+    uncons' = \case
+      x : xs -> Just (x, xs)
+      [] -> Nothing

@@ -63,7 +63,7 @@ spec = describe "IEC.Trace" $ do
     it "shows the statement of line 9 with the values it read and wrote" $ do
       sat `shouldSatisfy` (`has` "9 |   acc := acc + v[i] * 3;")
       -- 2147483300 + 300 * 3 = 2147484200 > 2^31 - 1
-      sat `shouldSatisfy` (`has` "ACC = 2147483300, I = 2, V[2] = 300; -> ACC := 2147483647")
+      sat `shouldSatisfy` (`has` "acc = 2147483300, i = 2, v[2] = 300; -> acc := 2147483647")
     it "cites the overflow rule of the tecomat catalogue with the alternative in force (TC-OP-20)" $
       sat `shouldSatisfy` (`has` "rule TC-OP-20: 2147483300 + 900 = 2147484200 lies outside DINT: the result is 2147483647 (overflow=saturate)")
     it "under overflow=wrap the same rule gives the wrapped value" $
@@ -71,7 +71,7 @@ spec = describe "IEC.Trace" $ do
     it "under nexto cites the nexto catalogue's ids (NX-OP-32)" $
       traced False nexto accumulate 1 `shouldSatisfy` (`has` "rule NX-OP-32, NX-ERR-24: ")
     it "shows the FOR bounds and the for-bounds decision (TC-STMT-26)" $ do
-      sat `shouldSatisfy` (`has` "I from 1 to 3 by 1")
+      sat `shouldSatisfy` (`has` "i from 1 to 3 by 1")
       sat `shouldSatisfy` (`has` "rule TC-STMT-26, TC-STMT-27: the final value and the step are evaluated again at every test (for-bounds=every-iteration)")
       traced False tecomat {pForBounds = ForOnce} accumulate 1 `shouldSatisfy` (`has` "evaluated once, before the first test (for-bounds=once)")
     it "marks each cycle" $

@@ -24,7 +24,7 @@ module Stref.IEC.Eval
 
 import Control.Monad (forM, forM_, unless, when)
 import Control.Monad.Except (ExceptT, catchError, runExceptT, throwError)
-import Control.Monad.Reader (ReaderT, asks, local, runReaderT)
+import Control.Monad.Reader (ReaderT, ask, asks, local, runReaderT)
 import Control.Monad.State.Strict (State, gets, modify', runState)
 import Data.Char (chr, ord)
 import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.))
@@ -73,6 +73,7 @@ data Ctx = Ctx
   , cxChecked :: Bool -- ^ do the implicit check functions apply here (NX-ERR-3, NX-ERR-4)
   , cxWriting :: Bool -- ^ is the reference being resolved written (CheckPointer's bWrite, NX-ERR-19)
   , cxDepth :: Int
+  , cxNames :: M.Map Text Text -- ^ the variables' names as declared, by key: for the trace (built only when used)
   }
 
 type Eval = ReaderT Ctx (ExceptT Signal (State Machine))
@@ -215,7 +216,7 @@ everyInstance prog act = do
 -- | Run initialisation code outside a cycle.
 runInit :: Policies -> Program -> Machine -> Eval () -> (Machine, Maybe Stop)
 runInit pol prog m0 act =
-  let ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
+  let ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
       (r, m) = runState (runExceptT (runReaderT act ctx)) m0 {mSteps = 0, mFrames = M.empty}
    in case r of
         Left (SigFault p f) -> (m, Just (StopFault p f))
@@ -233,7 +234,7 @@ runCycle pol prog clock m0 =
       run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
         Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
-      ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0
+      ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
         Left (SigFault p f) -> (traceFault pol p f m', Just (StopFault p f))
@@ -258,12 +259,19 @@ traceOf = maybe [] tracerEvents . mTrace
 
 -- | Emit an event, when the run is traced.
 note :: Event -> Eval ()
-note ev = do
+note ev = noteWith (const ev)
+{-# INLINE note #-}
+
+-- | Emit an event that names variables, when the run is traced.
+noteWith :: (Ctx -> Event) -> Eval ()
+noteWith ev = do
   t <- gets mTrace
   case t of
     Nothing -> pure ()
-    Just tr -> modify' (\m -> m {mTrace = Just (emit ev tr)})
-{-# INLINE note #-}
+    Just tr -> do
+      c <- ask
+      modify' (\m -> m {mTrace = Just (emit (ev c) tr)})
+{-# INLINE noteWith #-}
 
 tracing :: Eval Bool
 tracing = gets (isJust . mTrace)
@@ -289,32 +297,43 @@ faultRules = \case
   "call-depth" -> ["TC-ERR-6"]
   _ -> []
 
+-- | Every variable's name as declared, by key (where two POUs spell one
+-- key differently, one of the spellings).
+declaredNames :: Program -> M.Map Text Text
+declaredNames prog = M.fromList [(viKey v, viName v) | v <- prGlobals prog ++ concatMap pdVars (M.elems (prPous prog))]
+
 -- | A variable's name as the trace shows it: the steps from the program,
--- frame or global it lies in.
-pathName :: RefPath -> Text
-pathName (RefPath root steps) = case root of
-  RootGlobal k -> k <> T.concat (map stepText steps)
+-- frame or global it lies in, with the names as declared.
+pathName :: M.Map Text Text -> RefPath -> Text
+pathName names (RefPath root steps) = case root of
+  RootGlobal k -> named k <> T.concat (map stepText steps)
   RootLocated t -> t <> T.concat (map stepText steps)
   RootProgram k | null steps -> k
   _ -> T.drop 1 (T.concat (map stepText steps))
   where
+    named k = M.findWithDefault k k names
     stepText = \case
-      StepField f -> "." <> f
+      StepField f -> "." <> named f
       StepIndex is -> "[" <> T.intercalate "," (map (T.pack . show) is) <> "]"
       StepBit i -> "." <> T.pack (show i)
       StepChar _ i -> "[" <> T.pack (show i) <> "]"
 
-refName :: CRef -> RefPath -> Text
-refName r path = case r of
+-- | The name of a reference's variable in the trace.
+refName :: Ctx -> CRef -> RefPath -> Text
+refName c r path = case r of
   CLocated l _ -> locText l
-  _ -> pathName path
+  _ -> pathName (cxNames c) path
 
--- | Run a loop's iteration; when tracing, a signal that leaves the loop
--- (RETURN, JMP, an error) first closes it in the trace.
+-- | Run a loop's iteration; when tracing, RETURN or JMP leaving the loop
+-- first closes it in the trace (an error ends the cycle, and the trace
+-- shows it as the error).
 leaving :: Int -> Int -> Eval a -> Eval a
 leaving l k act = do
   on <- tracing
-  if on then act `catchError` (\e -> note (LoopExit l k) >> throwError e) else act
+  let closing e = case e of
+        SigFault {} -> throwError e
+        _ -> note (LoopExit l k) >> throwError e
+  if on then act `catchError` closing else act
 
 fault :: Pos -> Fault -> Eval a
 fault p f = throwError (SigFault p f)
@@ -371,8 +390,9 @@ callFB p c = do
   bindInOuts inst inouts
   depth <- asks cxDepth
   when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
-  let callee = pathName inst <> " : " <> pdName d
-  note (Call (posLine p) callee [(k, renderValue v) | (k, v) <- inputs])
+  names <- asks cxNames
+  let callee = pathName names inst <> " : " <> pdName d
+  note (Call (posLine p) callee [(M.findWithDefault k k names, renderValue v) | (k, v) <- inputs])
   local (\cx -> cx {cxSelf = inst, cxThis = inst, cxDepth = depth + 1}) (callBody d)
   on <- tracing
   when on $ do
@@ -456,7 +476,7 @@ callFunctionWith p d this inputs refs outs = do
   modify' (\m -> m {mFrames = M.insert (depth + 1) (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])) (mFrames m)})
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend frame (StepField k)) v
   bindInOuts frame refs
-  note (Call (posLine p) (pdName d) [(k, renderValue v) | (k, v) <- inputs])
+  noteWith (\c -> Call (posLine p) (pdName d) [(M.findWithDefault k k (cxNames c), renderValue v) | (k, v) <- inputs])
   local (\cx -> cx {cxSelf = frame, cxThis = fromMaybe (cxThis cx) this, cxDepth = depth + 1}) (callBody d)
   copyBack frame refs
   -- NX-POU-13: the outputs bound with => are copied after the body
@@ -639,7 +659,7 @@ forLoop p r t start end step body = do
   note . Rule l . ruled ["TC-STMT-26", "TC-STMT-27", "NX-STMT-25"] "for-bounds" $ case pForBounds pol of
     ForOnce -> "the final value and the step are evaluated once, before the first test"
     ForEveryIteration -> "the final value and the step are evaluated again at every test"
-  note (LoopEnter l (refName r target <> " from " <> renderValue s0 <> " to " <> renderValue e0 <> " by " <> renderValue st0))
+  noteWith (\c -> LoopEnter l (refName c r target <> " from " <> renderValue s0 <> " to " <> renderValue e0 <> " by " <> renderValue st0))
   let current once expr = case pForBounds pol of
         ForOnce -> pure once
         ForEveryIteration -> expr
@@ -692,7 +712,7 @@ eval ce = case ceNode ce of
   CRead r -> do
     path <- refPath (cePos ce) r
     v <- getRef (cePos ce) r path
-    note (Read (posLine (cePos ce)) (refName r path) (renderValue v))
+    noteWith (\c -> Read (posLine (cePos ce)) (refName c r path) (renderValue v))
     pure v
   CUnary o a -> do
     pol <- asks cxPol
@@ -910,7 +930,7 @@ storeTarget p t r path v = do
   case r of
     CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v' (mMemory m)})
     _ -> putPath path v'
-  note (Wrote (posLine p) (refName r path) (renderValue v'))
+  noteWith (\c -> Wrote (posLine p) (refName c r path) (renderValue v'))
 
 storePath :: Pos -> Type -> RefPath -> Value -> Eval ()
 storePath p t path v = fitValue p t v >>= putPath path
