@@ -128,6 +128,41 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 1
       out `shouldSatisfy` ("overflow=wrap gives" `isInfixOf`)
       length (takeWhile (/= "END_PROGRAM") (dropWhile (/= "PROGRAM MAIN") (lines out))) `shouldSatisfy` (<= 12)
+    describe "the trace (docs/trace.md)" $ do
+      it "eval --trace shows each statement with the values read and written, and the overflow rule with the alternative in force (TC-OP-20)" $ do
+        (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--trace", "VAR x : SINT := 127; y : SINT; END_VAR y := x + 1;"]
+        code `shouldBe` ExitSuccess
+        out `shouldSatisfy` ("y := x + 1;" `isInfixOf`)
+        out `shouldSatisfy` ("x = 127; -> y := -128" `isInfixOf`)
+        out `shouldSatisfy` ("rule TC-OP-20: 127 + 1 = 128 lies outside SINT: the result is -128 (overflow=wrap)" `isInfixOf`)
+      it "run --trace --format json prints one JSON event per line, then the result" $ do
+        (code, out, _) <- stref ["run", "--dialect", "tecomat", "--trace", "--format", "json", fixture "tecomat-counter.st"]
+        code `shouldBe` ExitSuccess
+        take 1 (lines out) `shouldBe` ["{\"cycle\":1,\"event\":\"cycle\"}"]
+        lines out `shouldSatisfy` all (\l -> take 1 l == "{")
+        last (lines out) `shouldSatisfy` ("\"vars\"" `isInfixOf`)
+      it "run --watch keeps only the statements that read or write the name" $ do
+        (_, out, _) <- stref ["eval", "--dialect", "tecomat", "--watch", "y", "VAR x : INT; y : INT; END_VAR x := 1; y := 2; x := 3;"]
+        out `shouldSatisfy` ("-> y := 2" `isInfixOf`)
+        out `shouldNotSatisfy` ("-> x := 3" `isInfixOf`)
+      it "eval --compare POLICY --trace shows both traces from the first point where they part (TC-OP-20)" $ do
+        (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--compare", "overflow", "--trace", "VAR x : SINT := 120; y : SINT; END_VAR y := 1; x := x + 10; y := x;"]
+        code `shouldBe` ExitSuccess
+        out `shouldSatisfy` ("agree on the first 2 trace items" `isInfixOf`)
+        out `shouldSatisfy` ("under overflow=saturate:" `isInfixOf`)
+        out `shouldSatisfy` ("x = 120; -> x := 127" `isInfixOf`)
+        out `shouldSatisfy` ("x = 120; -> x := -126" `isInfixOf`)
+        out `shouldSatisfy` ("a runtime error (overflow=trap)" `isInfixOf`)
+      it "conformance CASE --explain prints the reference's trace of the case before the report" $ do
+        (code, out, _) <- stref ["conformance", "--explain", "conformance/tecomat/statements/for-default-step-one.st"]
+        code `shouldBe` ExitSuccess
+        out `shouldSatisfy` ("the reference's trace of tecomat/statements/for-default-step-one" `isInfixOf`)
+        out `shouldSatisfy` ("rule TC-STMT-26, TC-STMT-27" `isInfixOf`)
+        out `shouldSatisfy` ("1 passed" `isInfixOf`)
+      it "conformance --explain needs exactly one case, exit 2" $ do
+        (code, _, err) <- stref ["conformance", "--explain", "conformance/tecomat/statements"]
+        code `shouldBe` ExitFailure 2
+        err `shouldSatisfy` ("--explain explains one case" `isInfixOf`)
     it "names an unknown dialect with the known ones, exit 2" $ do
       (code, _, err) <- stref ["run", "--dialect", "codesys", fixture "tecomat-counter.st"]
       code `shouldBe` ExitFailure 2
