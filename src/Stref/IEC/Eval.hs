@@ -35,9 +35,9 @@ import qualified Data.Sequence as Seq
 import Data.Text (Text)
 import qualified Data.Text as T
 import Numeric (showHex)
-import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
+import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
-import Stref.IEC.Conversions (convert, truncTo)
+import Stref.IEC.Conversions (convert, isConversionName, truncTo)
 import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binaryWhy, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
@@ -738,11 +738,13 @@ eval ce = case ceNode ce of
   CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [x])) | isInt e -> do
     pol <- asks cxPol
     v <- eval x
-    orFault (cePos ce) (truncTo pol e v)
+    r <- orFault (cePos ce) (truncTo pol e v)
+    converted (cePos ce) v r
   CConvert t a -> do
     pol <- asks cxPol
     v <- eval a
-    orFault (cePos ce) (convert pol (ceType a) t v)
+    r <- orFault (cePos ce) (convert pol (ceType a) t v)
+    converted (cePos ce) v r
   -- NX-OP-87, NX-TASK-9: TIME() (only under standard-library = codesys,
   -- which the checker decides) is the time since the controller started:
   -- the clock the standard FBs read, in TIME's 32 bits
@@ -772,7 +774,10 @@ eval ce = case ceNode ce of
   CStandard f args -> do
     pol <- asks cxPol
     vs <- mapM eval args
-    orFault (cePos ce) (standard pol f (map ceType args) vs)
+    r <- orFault (cePos ce) (standard pol f (map ceType args) vs)
+    case vs of
+      [v] | isConversionName pol f -> converted (cePos ce) v r
+      _ -> pure r
   CCall f ins inouts outs -> callFunction (cePos ce) f ins inouts outs
   CMethod d r ins inouts outs -> callMethod (cePos ce) d r ins inouts outs
   CAddressOf r -> do
@@ -789,6 +794,33 @@ operate p o x y = do
   on <- tracing
   when on $ mapM_ (note . Rule (posLine p)) why
   orFault p r
+
+-- | A conversion's result; when tracing, a result that is not its
+-- argument's number is shown with the policy that made it so:
+-- @real-to-int@ from REAL or LREAL to an integer (rounded, clamped or
+-- wrapped), @narrow-int@ between integers, @real-overflow@ for LREAL to
+-- REAL's infinity.
+converted :: Pos -> Value -> Value -> Eval Value
+converted p from to = do
+  on <- tracing
+  when on $ case (realOf from, to) of
+    (Just r, VInt e n)
+      | isNaN r || isInfinite r || toRational r /= toRational n ->
+          rule ["TC-CONV-12", "NX-CONV-23", "NX-CONV-24", "NX-ERR-22"] "real-to-int" (renderValue from <> " to " <> elemName e <> " gives " <> T.pack (show n))
+    (Just r, VReal f)
+      | isInfinite f && not (isInfinite r) ->
+          rule ["TC-OP-26"] "real-overflow" (renderValue from <> " does not fit REAL: " <> renderValue to)
+    _ -> case (from, to) of
+      (VInt _ a, VInt e b)
+        | a /= b -> rule ["TC-CONV-13", "TC-CONV-14", "NX-ERR-23"] "narrow-int" (T.pack (show a) <> " does not fit " <> elemName e <> ": it becomes " <> T.pack (show b))
+      _ -> pure ()
+  pure to
+  where
+    rule ids policy says = note (Rule (posLine p) (ruled ids policy says))
+    realOf = \case
+      VReal x -> Just (float2Double x)
+      VLReal x -> Just x
+      _ -> Nothing
 
 -- | A method, accessor or action called on an instance (NX-POU-25..43):
 -- which one runs is the instance's own type's (or the nearest base's) for a
