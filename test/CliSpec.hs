@@ -64,6 +64,33 @@ spec = describe "the stref command line" $ do
       (code, _, _) <- stref ["parse", fixture "no-such-file.st"]
       code `shouldBe` ExitFailure 2
 
+  describe "check --portability" $ do
+    it "lists, for an IEC program, each construct a policy decides, with file:line:col, the policy and its alternative here, and the rule ids; exit 0" $ do
+      (code, out, _) <- stref ["check", "--dialect", "tecomat", "--portability", fixture "portability-tecomat.st"]
+      code `shouldBe` ExitSuccess
+      let ws = filter ("warning:" `isInfixOf`) (lines out)
+      length ws `shouldBe` 12
+      out `shouldSatisfy` ("portability-tecomat.st:20:1: warning: cnt + a constant, stored back in cnt" `isInfixOf`)
+      out `shouldSatisfy` ("[policy overflow (here wrap); rules TC-OP-20]" `isInfixOf`)
+      out `shouldSatisfy` (":21:15: warning: the loop's body writes a variable of this bound" `isInfixOf`)
+      out `shouldSatisfy` ("[policy short-circuit (here eager); rules TC-OP-6]" `isInfixOf`)
+      out `shouldSatisfy` ("12 portability warnings" `isInfixOf`)
+    it "cites the nexto catalogue's ids under nexto, and gives JSON with --format json" $ do
+      (code, out, _) <- stref ["check", "--dialect", "nexto", "--portability", "--format", "json", fixture "portability-tecomat.st"]
+      code `shouldBe` ExitSuccess
+      out `shouldSatisfy` ("\"rules\":[\"NX-OP-32\",\"NX-ERR-24\"]" `isInfixOf`)
+      out `shouldSatisfy` ("{\"alternative\":\"false\",\"policy\":\"f-trig-initial\"}" `isInfixOf`)
+    it "lists them for a MasterTool XE module: a local named like a global (MT-SCOPE-5), an accumulator (MT-OP-6), a FOR bound written in the body (MT-STMT-19)" $ do
+      (code, out, _) <- stref ["check", "--portability", fixture "portability-mastertool.st"]
+      code `shouldBe` ExitSuccess
+      out `shouldSatisfy` ("portability-mastertool.st:10:3: warning: g is also the name of a global" `isInfixOf`)
+      out `shouldSatisfy` ("[policy name-resolution (here global-wins); rules MT-SCOPE-5]" `isInfixOf`)
+      out `shouldSatisfy` (":18:1: warning: g + a constant" `isInfixOf`)
+      out `shouldSatisfy` ("[policy for-bounds (here once); rules MT-STMT-19]" `isInfixOf`)
+      out `shouldSatisfy` ("14 portability warnings" `isInfixOf`)
+    it "says nothing without --portability" $ do
+      (_, out, _) <- stref ["check", fixture "portability-mastertool.st"]
+      out `shouldNotSatisfy` ("warning" `isInfixOf`)
   describe "check" $ do
     it "exits 0 for a valid module" $ do
       (code, _, _) <- stref ["check", fixture "sat.st"]

@@ -4,7 +4,7 @@
 module Cmd.Check (command) where
 
 import Control.Exception (IOException, try)
-import Control.Monad (foldM)
+import Control.Monad (foldM, when)
 import Data.Aeson ((.=))
 import qualified Data.Aeson as A
 import qualified Data.ByteString as BS
@@ -20,6 +20,7 @@ import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Check (checkModule)
 import Stref.Checked (ModuleKind (..))
 import Stref.Policy (mastertoolXE, setPolicy)
+import Stref.Portability (moduleWarnings, renderWarning, warningJson)
 import Stref.Syntax (Pos (..))
 import Stref.Syntax.Parser (parseModule)
 import Stref.Verification
@@ -34,6 +35,7 @@ data Options = Options
   , optKind :: ModuleKind
   , optPolicies :: [String]
   , optDialect :: String
+  , optPortability :: Bool
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -51,6 +53,7 @@ options =
     <*> option (eitherReader readKind) (long "module" <> metavar "P|F" <> value ProcedureModule <> help "Procedure (P, default) or function (F) module")
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. name-resolution=local-wins"))
     <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto")
+    <*> switch (long "portability" <> help "Also list the constructs whose meaning depends on a policy (warnings; the exit status stays 0 for a valid program)")
   where
     readFormat = \case
       "text" -> Right FormatText
@@ -67,9 +70,14 @@ run :: Options -> IO ExitCode
 run opts = case dialectPolicies (optDialect opts) (optPolicies opts) of
   Right pol | isIecDialect pol -> do
     src <- readSource (optFile opts)
-    either (\msg -> hPutStrLn stderr ("stref check: " <> T.unpack msg) >> pure (ExitFailure 2)) (checkIec pol (optFile opts)) src
+    either (\msg -> hPutStrLn stderr ("stref check: " <> T.unpack msg) >> pure (ExitFailure 2)) (\s -> checkIec pol (optFile opts) s (optPortability opts) (isJson (optFormat opts))) src
   Left msg -> hPutStrLn stderr ("stref check: " <> T.unpack msg) >> pure (ExitFailure 2)
   _ -> runMasterTool opts
+
+isJson :: Format -> Bool
+isJson = \case
+  FormatJson -> True
+  _ -> False
 
 runMasterTool :: Options -> IO ExitCode
 runMasterTool opts =
@@ -88,12 +96,16 @@ runMasterTool opts =
          Right source -> do
           let outcome = case parseModule policies file source of
                 Left err -> Left [err]
-                Right m -> () <$ checkModule policies (optKind opts) m
+                Right m -> m <$ checkModule policies (optKind opts) m
           case outcome of
-            Right () -> do
+            Right m -> do
+              let warnings = if optPortability opts then moduleWarnings m else []
               case optFormat opts of
-                FormatJson -> BL.putStrLn (A.encode (A.object ["file" .= file, "valid" .= True, "errors" .= ([] :: [A.Value])]))
-                _ -> putStrLn (file <> ": valid " <> kindText <> " module")
+                FormatJson -> BL.putStrLn (A.encode (A.object (["file" .= file, "valid" .= True, "errors" .= ([] :: [A.Value])] ++ ["warnings" .= map (warningJson policies) warnings | optPortability opts])))
+                _ -> do
+                  putStrLn (file <> ": valid " <> kindText <> " module")
+                  mapM_ (TIO.putStrLn . renderWarning policies file) warnings
+                  when (optPortability opts) $ putStrLn (show (length warnings) <> " portability warning" <> (if length warnings == 1 then "" else "s") <> " (docs/policies.md explains each policy)")
               pure ExitSuccess
             Left errs -> do
               case optFormat opts of

@@ -15,7 +15,7 @@ module Cmd.Iec
   , compareIec
   ) where
 
-import Control.Monad (foldM, forM_)
+import Control.Monad (foldM, forM_, when)
 import Data.Aeson ((.=))
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
@@ -39,6 +39,8 @@ import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (TIME))
 import Stref.IEC.Values
 import Stref.Policy
+import Stref.IEC.Portability (portability)
+import Stref.Portability (renderWarning, warningJson)
 import Stref.Trace (Item, items, renderJsonLines, renderText, watching)
 import Stref.Verification (renderError)
 import Cmd.Common (rejectionJson)
@@ -77,15 +79,26 @@ parseIec pol file src ast = case parseUnit pol file src of
     kindWord = pouKindKeyword
 
 -- | @stref check --dialect tecomat FILE@: parse and check the unit.
-checkIec :: Policies -> FilePath -> Text -> IO ExitCode
-checkIec pol file src = case parseUnit pol file src >>= checkUnit pol AllPrograms of
-  Left e -> do
-    TIO.hPutStr stderr (renderError file src e)
-    pure (ExitFailure 1)
+-- With @--portability@, the constructs whose meaning a policy decides are
+-- listed after it (warnings: the exit status stays 0); @json@ prints one
+-- JSON object instead.
+checkIec :: Policies -> FilePath -> Text -> Bool -> Bool -> IO ExitCode
+checkIec pol file src portable json = case parseUnit pol file src >>= checkUnit pol AllPrograms of
+  Left e
+    | json -> BL.putStrLn (A.encode (rejectionJson file [e])) >> pure (ExitFailure 1)
+    | otherwise -> do
+        TIO.hPutStr stderr (renderError file src e)
+        pure (ExitFailure 1)
   Right prog -> do
     let pous = M.elems (prPous prog)
         user = [d | d <- pous, isUser d]
-    putStrLn (file <> ": valid (" <> show (length user) <> " POUs: " <> T.unpack (T.intercalate ", " [kindText (pdKind d) <> " " <> pdName d | d <- sortOn (posOf . pdEndPos) user]) <> ")")
+        warnings = if portable then portability pol prog else []
+    if json
+      then BL.putStrLn (A.encode (A.object (["file" .= file, "valid" .= True, "errors" .= ([] :: [A.Value])] ++ ["warnings" .= map (warningJson pol) warnings | portable])))
+      else do
+        putStrLn (file <> ": valid (" <> show (length user) <> " POUs: " <> T.unpack (T.intercalate ", " [kindText (pdKind d) <> " " <> pdName d | d <- sortOn (posOf . pdEndPos) user]) <> ")")
+        mapM_ (TIO.putStrLn . renderWarning pol file) warnings
+        when portable $ putStrLn (show (length warnings) <> " portability warning" <> (if length warnings == 1 then "" else "s") <> " (docs/policies.md explains each policy)")
     pure ExitSuccess
   where
     isUser d = case pdBody d of

@@ -16,6 +16,7 @@ module Stref.IEC.Checked
   , StandardFB
   , FBState
   , lookupPou
+  , declaredNames
   , findMethod
   , varByKey
   , key
@@ -98,6 +99,11 @@ data PouDef = PouDef
 
 lookupPou :: Program -> Text -> Maybe PouDef
 lookupPou p n = M.lookup (key n) (prPous p)
+
+-- | Every variable's name as declared, by key (where two POUs spell one
+-- key differently, one of the spellings): for messages and the trace.
+declaredNames :: Program -> Map Text Text
+declaredNames prog = M.fromList [(viKey v, viName v) | v <- prGlobals prog ++ concatMap pdVars (M.elems (prPous prog))]
 
 -- | A method (accessor, action) of a POU type, its own or inherited, with
 -- the type that declares it.

@@ -297,11 +297,6 @@ faultRules = \case
   "call-depth" -> ["TC-ERR-6"]
   _ -> []
 
--- | Every variable's name as declared, by key (where two POUs spell one
--- key differently, one of the spellings).
-declaredNames :: Program -> M.Map Text Text
-declaredNames prog = M.fromList [(viKey v, viName v) | v <- prGlobals prog ++ concatMap pdVars (M.elems (prPous prog))]
-
 -- | A variable's name as the trace shows it: the steps from the program,
 -- frame or global it lies in, with the names as declared.
 pathName :: M.Map Text Text -> RefPath -> Text
