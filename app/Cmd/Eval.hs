@@ -21,7 +21,7 @@ import Stref.Policy
 import Stref.Run
 import Stref.Types (typeName)
 import Stref.Values
-import Stref.Trace (Item, parting, renderText)
+import Stref.Trace (Item, items, parting, renderText, watching)
 
 data Options = Options
   { optSnippet :: String
@@ -99,14 +99,27 @@ runMasterTool :: Options -> IO ExitCode
 runMasterTool o = case applyPolicies (optPolicies o) of
   Left msg -> usageError "eval" msg
   Right pol -> case optCompare o of
+    Nothing
+      | Just (everyIteration, watched) <- traceRequest (optTrace o) -> case evalSnippetTraced everyIteration pol snippet of
+          Left (src, failure) -> rejected src failure
+          Right (sr, events) -> do
+            mapM_ TIO.putStrLn (renderText pol (sourceLine (snSource (srSnippet sr))) (watching watched (items events)))
+            shown sr
     Nothing -> case evalSnippet pol snippet of
       Left (src, failure) -> rejected src failure
-      Right sr -> do
-        let ob = observe True sr
-        mapM_ (\(k, v) -> TIO.putStrLn (k <> " = " <> v)) (obRows ob)
-        pure (if obFailed ob then ExitFailure 1 else ExitSuccess)
+      Right sr -> shown sr
     Just name -> case alternativesOf (T.pack name) pol of
       Left msg -> usageError "eval" msg
+      Right alts | Just (everyIteration, watched) <- traceRequest (optTrace o) -> do
+        -- each alternative's trace from the first item where they part
+        let runs = [(alt, p, evalSnippetTraced everyIteration p snippet) | (alt, p) <- alts]
+        case [(alt, p, snSource (srSnippet sr), watching watched (items events)) | (alt, p, Right (sr, events)) <- runs] of
+          ran@((_, _, src, _) : _) -> do
+            mapM_ TIO.putStrLn (compareTraces (T.pack name) (sourceLine src) [(alt, p, its) | (alt, p, _, its) <- ran])
+            pure ExitSuccess
+          [] -> case [(src, f) | (_, _, Left (src, f)) <- runs] of
+            (src, f) : _ -> rejected src f
+            [] -> usageError "eval" ("the policy " <> T.pack name <> " has no alternatives")
       Right alts -> do
         let runs = [(alt, evalSnippet p snippet) | (alt, p) <- alts]
         case [(src, f) | (_, Left (src, f)) <- runs] of
@@ -116,6 +129,10 @@ runMasterTool o = case applyPolicies (optPolicies o) of
             pure ExitSuccess
   where
     snippet = T.pack (optSnippet o)
+    shown sr = do
+      let ob = observe True sr
+      mapM_ (\(k, v) -> TIO.putStrLn (k <> " = " <> v)) (obRows ob)
+      pure (if obFailed ob then ExitFailure 1 else ExitSuccess)
     isLeft = either (const True) (const False)
     rejected src failure = do
       TIO.hPutStr stderr (renderRunFailure "<eval>" src failure)

@@ -10,7 +10,7 @@ import qualified Data.ByteString as BS
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (isDigit)
-import Data.Foldable (toList)
+import Data.Foldable (forM_, toList)
 import qualified Data.Map.Strict as M
 import Data.Scientific (floatingOrInteger, toRealFloat)
 import Data.Text (Text)
@@ -22,13 +22,14 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr, stdout)
 import Cmd.Common
-import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec)
+import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec, sourceLine)
 import Stref.Policy (PolicyInfo (..), lookupPolicy, setPolicy)
 import Stref.Checked (ModuleKind (..))
 import Stref.Diagnostics
 import Stref.Execution
 import Stref.Operands
 import Stref.Run
+import Stref.Trace (items, renderJsonLines, renderText, watching)
 import Stref.Types (BasicType (INT))
 import Stref.Values
 
@@ -158,14 +159,27 @@ runMasterTool o = do
               chfOut = if null outs then pfChfOut plc else outs
               runSetup = RunSetup pol (pfConfig plc) kind (pfInit plc ++ sets)
               calls = replicate (optCalls o) (CallSpec inputs [] chfIn chfOut)
-          case compileSource pol kind (optFile o) src >>= \cm -> streamModule runSetup cm calls of
+              started = do
+                cm <- compileSource pol kind (optFile o) src
+                case traceRequest (optTrace o) of
+                  Just (everyIteration, _) -> do
+                    -- a traced run keeps its calls: a trace is read by a person
+                    (outcome, events) <- runModuleTraced everyIteration runSetup cm calls
+                    pure (roInitial outcome, foldr CallStep (CallsDone (roFinal outcome)) (roResults outcome), events)
+                  Nothing -> (\(initial, stream) -> (initial, stream, [])) <$> streamModule runSetup cm calls
+          case started of
             Left (BadSetting msg) -> usageError "run" msg
             Left (Rejected errs) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) errs)) >> pure (ExitFailure 1)
             Left (SyntaxError err) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) [err])) >> pure (ExitFailure 1)
             Left failure -> do
               TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
               pure (ExitFailure 1)
-            Right (initial, stream) -> do
+            Right (initial, stream, events) -> do
+              -- the trace first (text, or one JSON object per event), then
+              -- the usual report
+              forM_ (traceRequest (optTrace o)) $ \(_, watched) ->
+                mapM_ TIO.putStrLn $
+                  (if fmtJson then renderJsonLines pol else renderText pol (sourceLine src)) (watching watched (items events))
               -- the calls are printed as they happen, so that memory does
               -- not grow with --calls
               if fmtJson then BL.putStr "{\"calls\":[" else pure ()

@@ -28,9 +28,11 @@ module Stref.Diagnostics
   , describeErrorCode
   , noErrorBand
   , errorBand
+  , errorRule
   ) where
 
 import Data.Text (Text)
+import qualified Data.Text as T
 
 type ErrorCode = Int
 
@@ -118,3 +120,15 @@ noErrorBand = [-32768, 0, 0, 0, 0]
 -- | MT-DIAG-2: line, code, complements 1-3.
 errorBand :: RuntimeError -> [Int]
 errorBand (RuntimeError c l (a, b, d)) = [l, c, a, b, d]
+
+-- | The catalogue rule that raises a runtime error (a trace cites it): the
+-- code's row of Table 5-3, or for the @trap@ and @error@ alternatives of
+-- the policies the rule they replace; none for stref's own errors.
+errorRule :: ErrorCode -> Maybe Text
+errorRule c
+  | c >= 2000 && c < 3000 = Just ("MT-ERR-" <> T.pack (show c))
+  | c == trapOverflow = Just "MT-OP-6"
+  | c == trapDivisionByZero = Just "MT-OP-9"
+  | c == trapIndex = Just "MT-ARR-8"
+  | c == errModZero = Just "MT-OP-8"
+  | otherwise = Nothing

@@ -12,6 +12,12 @@
 -- built), and a module call is one 'runST'. A runtime error stops the
 -- closures; the machine keeps the state at the moment it occurred (operand
 -- writes made before an error persist, MT-EXEC-8).
+--
+-- A module translated with tracing on ('compileTracedModule') is made of
+-- other closures (the section "Tracing" at the end): the reference
+-- operators of "Stref.Operators" instead of the fast paths, and each
+-- closure tells the machine's tracer what it read, wrote and decided. The
+-- fast closures are the same whether or not a traced translation exists.
 {-# LANGUAGE MagicHash #-}
 {-# LANGUAGE RankNTypes #-}
 {-# LANGUAGE UnboxedTuples #-}
@@ -42,7 +48,10 @@ module Stref.Eval
   , Flow (..)
   , CompiledModule (..)
   , compileModule
+  , compileTracedModule
   , compileExpr
+    -- * Tracing
+  , traceEvent
   , compileBlock
   ) where
 
@@ -55,18 +64,22 @@ import Data.Int (Int16, Int32)
 import Data.IntMap.Strict (IntMap)
 import Data.List (partition)
 import Data.STRef
+import Data.Text (Text)
+import qualified Data.Text as T
 import Data.Word (Word32)
 import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.Checked
-import Stref.Conversions (convert)
+import Stref.Conversions (conversionName, convert)
 import Stref.Diagnostics
 import Stref.Eval.Fast
+import Stref.Numeric (realToRational)
 import Stref.Operands
 import qualified Stref.Operators as O
 import Stref.Policy
+import Stref.Trace (Decision, Event (..), Tracer, decision, emit, newTracer, ruled)
 import Stref.Types
 import Stref.Values
 
@@ -83,6 +96,8 @@ data Machine s = Machine
   -- OUTPUT1..3 (MT-SIG-4), whether a runtime error occurred, at the
   -- indices below
   , mError :: {-# UNPACK #-} !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
+  , mTrace :: {-# UNPACK #-} !(STRef s Tracer)
+  -- ^ the events of a traced translation (the fast closures never touch it)
   }
 
 ixSteps, ixOverflow, ixFailed :: Int
@@ -115,7 +130,8 @@ newMachine cm table retained mem (o1, o2, o3) = do
   MU.write cs (ixOutput 2) (fromEnum o2)
   MU.write cs (ixOutput 3) (fromEnum o3)
   er <- newSTRef (runtimeError errMalformed 0)
-  pure (Machine d fr mr table cells cs er)
+  tr <- newSTRef (newTracer False)
+  pure (Machine d fr mr table cells cs er tr)
 
 -- | The machine's state after a call, immutable.
 data Snapshot = Snapshot
@@ -506,11 +522,13 @@ data CompiledModule = CompiledModule
   , cmCellSlots :: CellSlots
   -- ^ the table of the cells a machine for this module holds ('newMachine'
   -- is given it): an operand's slot in it is found when the closure is built
+  , cmTraced :: Bool -- ^ translated by 'compileTracedModule'
   }
 
 -- | The meaning of a function: arguments to result.
 data Function = Function
-  { fnFrame :: FrameStart
+  { fnName :: Text
+  , fnFrame :: FrameStart
   -- ^ the frame a call starts from (MT-SCOPE-7): the result at its type
   -- default, the locals kept in the frame at their initial values, the
   -- rest at their type defaults until the arguments are written
@@ -522,6 +540,8 @@ data Ctx = Ctx
   { cxPolicies :: Policies
   , cxFunctions :: IntMap Function
   , cxCells :: CellSlots -- ^ the machine's table of held cells ('cmCellSlots')
+  , cxTrace :: Bool -- ^ build the traced closures (section "Tracing")
+  , cxLine :: Line -- ^ when tracing: the line of the statement being translated, where its reads happen
   }
 
 -- | The meaning of an expression: a closure giving its value, and whether
@@ -742,9 +762,17 @@ failsM (Meaning f _ _ _) = f
 -- the lazily built table of meanings (a knot: each function is translated
 -- once, however often it is called).
 compileModule :: Policies -> CellSlots -> CModule -> CompiledModule
-compileModule pol table cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults table
+compileModule = translateModule False
+
+-- | 'compileModule' with tracing on: the closures emit 'Event's into the
+-- machine's tracer ('mTrace') as they run.
+compileTracedModule :: Policies -> CellSlots -> CModule -> CompiledModule
+compileTracedModule = translateModule True
+
+translateModule :: Bool -> Policies -> CellSlots -> CModule -> CompiledModule
+translateModule tracing pol table cm = CompiledModule (flowExec (compileBlock ctx (cpBody prog))) funs defaults table tracing
   where
-    ctx = Ctx pol funs table
+    ctx = Ctx pol funs table tracing 0
     funs = IM.map (compileFunction ctx) (cmFunctions cm)
     prog = cmProgram cm
     defaults =
@@ -778,7 +806,7 @@ compileExpr ctx x =
 -- call starts from; a local whose home is not in the frame is initialised
 -- on each call.
 compileFunction :: Ctx -> CFunction -> Function
-compileFunction ctx f = Function template (cfParams f) run
+compileFunction ctx f = Function (cfName f) template (cfParams f) run
   where
     run :: Run s Value
     run e m = do
@@ -930,9 +958,15 @@ boolValue :: Bool -> Value
 boolValue b = if b then VBool True else VBool False
 {-# INLINE boolValue #-}
 
--- | The meaning of an expression.
+-- | The meaning of an expression: the fast closures, or with tracing on
+-- the traced ones.
 meaning :: Ctx -> CExpr -> Meaning s
-meaning ctx = \case
+meaning ctx
+  | cxTrace ctx = tracedMeaning ctx
+  | otherwise = fastMeaning ctx
+
+fastMeaning :: Ctx -> CExpr -> Meaning s
+fastMeaning ctx = \case
   CLit v -> Meaning False (\_ _ -> pure v) (Constant v) Untyped
   CRead v ->
     let leaf = case varHome v of
@@ -1189,7 +1223,12 @@ passArguments fr = go
           _ -> (writeRun param 0 x :) <$> go rest e m
 
 compileStmt :: Ctx -> CStmt -> Run s Flow
-compileStmt ctx = \case
+compileStmt ctx
+  | cxTrace ctx = tracedStmt ctx
+  | otherwise = fastStmt ctx
+
+fastStmt :: Ctx -> CStmt -> Run s Flow
+fastStmt ctx = \case
   SAssign line target x ->
     -- MT-STMT-2: the right side is evaluated before the index of the target
     let xM = meaning ctx x
@@ -1296,12 +1335,8 @@ compileStmt ctx = \case
     let selM = meaning ctx sel
         armsR = [(ranges, compileBlock ctx b) | (ranges, b) <- arms]
         !elseR = compileBlock ctx elseB
-        pick _ [] = elseR
-        pick k ((ranges, bR) : rest)
-          | any (\(lo, hi) -> lo <= k && k <= hi) ranges = bR
-          | otherwise = pick k rest
      in \e m -> stepThen line m $ withValue selM e m $ \v -> case valueToInteger v of
-          Just k -> pick k armsR e m
+          Just k -> selectArm k armsR elseR e m
           Nothing -> Failing <$ malformed line m
   SWhile line c body ->
     -- MT-STMT-13: the test before each iteration
@@ -1337,6 +1372,16 @@ compileStmt ctx = \case
     stepThen line m k = do
       ok <- tick (pStepBudget pol) line m
       if ok then k else pure Failing
+
+-- | MT-STMT-8: what the first arm of a CASE whose values or inclusive
+-- ranges hold the selector gives, else the ELSE's.
+selectArm :: Integer -> [([CaseRange], a)] -> a -> a
+selectArm k arms elseA = case arms of
+  [] -> elseA
+  (ranges, a) : rest
+    | any (\(lo, hi) -> lo <= k && k <= hi) ranges -> a
+    | otherwise -> selectArm k rest elseA
+{-# INLINE selectArm #-}
 
 -- | FOR (MT-STMT-15..21, decisions A13, A14). The control variable takes the
 -- start value; end and step are evaluated once after it (@for-bounds =
@@ -1395,7 +1440,7 @@ compileFor ctx line cv start end by body = \e m ->
       where
         go = step m $ bounds e m $ \en st -> do
           c <- readCv e m
-          if continues st c en
+          if forContinues zero st c en
             then
               bodyR e m >>= \case
                 Next -> increment st e m >>= \case
@@ -1433,24 +1478,43 @@ compileFor ctx line cv start end by body = \e m ->
                     other -> pure other
                 else pure Next
     {-# INLINE intLoop #-}
-    continues s c en
-      | numCompare s zero == LT = numCompare c en /= LT
-      | otherwise = numCompare c en /= GT
     -- Next: go on testing; Exiting: the loop ends; Failing: an error
     increment s e m = do
       c <- readCv e m
-      case pForAtTypeMax pol of
-        StopAtEnd -> case (valueToInt c, valueToInt s, intRangeInt) of
-          (Just ci, Just si, Just (lo, hi))
-            | ci + si < lo || ci + si > hi -> pure Exiting
-            | otherwise -> Next <$ writeCv (intToValue t (ci + si)) e m
-          _ -> case (c, s) of
-            (VReal x, VReal y) -> Next <$ writeCv (VReal (x + y)) e m
-            _ -> Failing <$ malformed line m
-        FollowOverflowPolicy -> do
-          n <- outcome line m (O.arith pol OpAdd c s)
+      case forNext pol t intRangeInt c s of
+        LeavesRange -> pure Exiting
+        NotANumber -> Failing <$ malformed line m
+        NextValue o -> do
+          n <- outcome line m o
           bad <- hasFailed m
           if bad then pure Failing else Next <$ writeCv n e m
+
+-- | The test before each iteration of a FOR (MT-STMT-18): with a step of at
+-- least @zero@ (the step type's 0) the body runs while cv <= end, with a
+-- negative step while cv >= end (MT-STMT-21 a).
+forContinues :: Value -> Value -> Value -> Value -> Bool
+forContinues zero s c en
+  | numCompare s zero == LT = numCompare c en /= LT
+  | otherwise = numCompare c en /= GT
+
+-- | What follows the body of a FOR, under @for-at-type-max@ (decision A14,
+-- MT-STMT-21 b): the control variable's next value (an operator's outcome,
+-- with its effect on INTERNAL_OVERFLOW under @follow-overflow-policy@), or
+-- the end of the loop because cv + step leaves the type's range (given as
+-- machine integers, for an integer control variable).
+data ForNext = NextValue O.Outcome | LeavesRange | NotANumber
+
+forNext :: Policies -> BasicType -> Maybe (Int, Int) -> Value -> Value -> ForNext
+forNext pol t range c s = case pForAtTypeMax pol of
+  StopAtEnd -> case (valueToInt c, valueToInt s, range) of
+    (Just ci, Just si, Just (lo, hi))
+      | ci + si < lo || ci + si > hi -> LeavesRange
+      | otherwise -> NextValue (Right (intToValue t (ci + si), Nothing))
+    _ -> case (c, s) of
+      (VReal x, VReal y) -> NextValue (Right (VReal (x + y), Nothing))
+      _ -> NotANumber
+  FollowOverflowPolicy -> NextValue (O.arith pol OpAdd c s)
+{-# INLINE forNext #-}
 
 -- | Numeric order of two values of one type (integers and bit strings by
 -- their number, REAL by IEEE order with NaN treated as equal).
@@ -1462,3 +1526,409 @@ numCompare a b = case (valueToInt a, valueToInt b, a, b) of
     | x > y -> GT
     | otherwise -> EQ
   _ -> EQ
+
+--------------------------------------------------------------------------------
+-- Tracing (#24)
+--
+-- The closures of a traced translation. They share with the fast ones
+-- every piece that gives a meaning (the reads and writes of variables,
+-- 'elementIndex', 'selectArm', 'forContinues', 'forNext', 'outcome',
+-- 'tick', 'passArguments'), use the reference operators of
+-- "Stref.Operators" where the fast closures have their fast paths (FastSpec
+-- checks that the two agree), and tell the machine's tracer what they read,
+-- wrote and chose, the decisions taken from the values those functions
+-- returned. Every traced expression is a plain closure that may fail: no
+-- leaves, no typed closures, speed does not matter here.
+
+-- | Tell the machine's tracer.
+traceEvent :: Machine s -> Event -> ST s ()
+traceEvent m ev = modifySTRef' (mTrace m) (emit ev)
+
+traced :: Run s Value -> Meaning s
+traced = computed True
+
+-- | Run an expression, then the continuation with its value, unless the
+-- expression failed (then its value, never used, is the result).
+thenValue :: Meaning s -> Env -> Machine s -> (Value -> ST s Value) -> ST s Value
+thenValue (Meaning _ r _ _) e m k = do
+  x <- r e m
+  bad <- hasFailed m
+  if bad then pure x else k x
+
+-- | The traced meaning of an expression; its reads and decisions are told
+-- at the line of the statement it belongs to ('cxLine'), its runtime errors
+-- raised at its own line as in 'fastMeaning'.
+tracedMeaning :: Ctx -> CExpr -> Meaning s
+tracedMeaning ctx = \case
+  CLit v -> traced (\_ _ -> pure v)
+  CRead v ->
+    let r = readRunIn ctx v 0
+     in traced $ \e m -> r e m >>= \x -> x <$ traceEvent m (Read line (varName v) (showValue x))
+  CReadIndex iline v ix ->
+    let ixM = meaning ctx (indexExpr ix)
+        elements = V.generate (varElements v) (readRun v)
+     in traced $ \e m -> thenValue ixM e m $ \iv -> do
+          k <- tracedIndex pol line iline v m iv
+          if k < 0
+            then pure iv
+            else case elements V.!? k of
+              Just r -> r e m >>= \x -> x <$ traceEvent m (Read line (elementName v k) (showValue x))
+              Nothing -> malformed iline m
+  CConv from to x -> unaryOp x $ \m v -> do
+    let w = convert pol from to v -- MT-CONV-5
+    mapM_ (traceEvent m . Rule line) (conversionDecisions from to v w)
+    pure w
+  CNeg l t x -> unaryOp x $ \m v -> tracedOutcome pol line l m t ("-(" <> showValue v <> ")") Nothing (O.negateValue pol v) -- MT-OP-4, MT-OP-6
+  CNot _ x -> unaryOp x $ \_ v -> pure (O.notValue v) -- MT-OP-14
+  CArith l op t a b -> binaryOp a b $ \m x y ->
+    let byZero = if op `elem` [OpDiv, OpMod] && isZero y then Just op else Nothing
+     in tracedOutcome pol line l m t (showValue x <> " " <> arithSymbol op <> " " <> showValue y) byZero (O.arith pol op x y) -- MT-OP-4..10
+  CCompare op _ a b -> binaryOp a b $ \_ x y -> pure (boolValue (O.compareValues op x y)) -- MT-OP-11
+  CLogic op t a b -> case (pShortCircuit pol, t, op) of
+    -- decision A17, as in 'fastMeaning'
+    (ShortCircuit, BOOL, OpAnd) -> shortCircuit op a b (VBool False)
+    (ShortCircuit, BOOL, OpOr) -> shortCircuit op a b (VBool True)
+    _ -> binaryOp a b $ \_ x y -> pure (O.logic op x y) -- MT-OP-12..14
+  CCall l fid _ args -> traced (tracedCall ctx l fid args)
+  CExpt l t a b -> binaryOp a b $ \m x y ->
+    tracedOutcome pol line l m t ("EXPT(" <> showValue x <> ", " <> showValue y <> ")") Nothing (O.expt pol x y) -- MT-OP-20
+  where
+    pol = cxPolicies ctx
+    line = cxLine ctx
+    unaryOp x f = let xM = meaning ctx x in traced $ \e m -> thenValue xM e m (f m)
+    -- left to right (decision A18)
+    binaryOp a b f =
+      let aM = meaning ctx a
+          bM = meaning ctx b
+       in traced $ \e m -> thenValue aM e m $ \x -> thenValue bM e m $ \y -> f m x y
+    shortCircuit op a b decisive =
+      let aM = meaning ctx a
+          bM = meaning ctx b
+       in traced $ \e m -> thenValue aM e m $ \x ->
+            if x == decisive
+              then x <$ traceEvent m (Rule line (ruled ["A17"] "short-circuit" (showValue x <> " " <> logicWord op <> " ...: the right operand is not evaluated")))
+              else thenValue bM e m $ \y -> pure (O.logic op x y)
+    isZero = \case
+      VReal r -> r == 0
+      y -> valueToInteger y == Just 0
+
+-- | Apply an operator's outcome as the fast closures do ('outcome'), after
+-- telling the decisions it shows.
+tracedOutcome :: Policies -> Line -> Line -> Machine s -> BasicType -> Text -> Maybe ArithOp -> O.Outcome -> ST s Value
+tracedOutcome pol eventLine line m t expr byZero o = do
+  flagBefore <- (/= 0) <$> MU.unsafeRead (mCounters m) ixOverflow
+  mapM_ (traceEvent m . Rule eventLine) (outcomeDecisions pol t expr flagBefore byZero o)
+  outcome line m o
+
+-- | What an operator's outcome shows: an overflow (MT-OP-6) and its effect
+-- on INTERNAL_OVERFLOW (MT-OP-7; a FALSE is told when it clears a TRUE), a
+-- division or MOD by zero (MT-OP-8, MT-OP-9), a trap. @byZero@ is the
+-- operator when its right operand is zero.
+outcomeDecisions :: Policies -> BasicType -> Text -> Bool -> Maybe ArithOp -> O.Outcome -> [Decision]
+outcomeDecisions pol t expr flagBefore byZero = \case
+  Right (v, flag) ->
+    let shown = expr <> " = " <> showValue v
+        zero = case byZero of
+          Just OpMod -> [ruled ["MT-OP-8"] "mod-zero" (shown <> ": MOD by 0 gives 0")]
+          Just OpDiv -> [ruled ["MT-OP-9"] divZeroPolicy (shown <> ": division by 0")]
+          _ -> []
+        overflow = case flag of
+          Just True -> [ruled ["MT-OP-6"] overflowPolicy (shown <> ": " <> overflowWords), decision ["MT-OP-7"] "INTERNAL_OVERFLOW := TRUE"]
+          Just False | flagBefore -> [decision ["MT-OP-7"] "INTERNAL_OVERFLOW := FALSE (this operation did not overflow)"]
+          _ -> []
+     in zero ++ overflow
+  Left code
+    | code == errDivisionByZero -> [ruled ["MT-OP-9"] divZeroPolicy (expr <> ": division by 0 is runtime error 2020")]
+    | code == trapOverflow -> [ruled ["MT-OP-6"] overflowPolicy (expr <> " overflows " <> typeName t <> ": trap")]
+    | code == trapDivisionByZero -> [ruled ["MT-OP-9"] "div-zero" (expr <> ": division by 0 traps")]
+    | code == errModZero -> [ruled ["MT-OP-8"] "mod-zero" (expr <> ": MOD by 0 is an error")]
+    | otherwise -> []
+  where
+    isReal = t == REAL
+    divZeroPolicy = if isReal then "real-div-zero" else "div-zero"
+    overflowPolicy = if isReal then "real-overflow" else "overflow"
+    overflowWords
+      | isReal = case pRealOverflow pol of
+          RealOverflowSaturate -> "REAL saturates to the largest finite value"
+          RealOverflowIeee -> "REAL overflows to infinity"
+      | otherwise =
+          let width = case pArithWidth pol of
+                OperandType -> typeName t
+                Promote32 -> "the 32-bit result"
+           in width <> case pOverflow pol of
+                Saturate -> " saturates"
+                Wrap -> " wraps around"
+                Trap -> " traps"
+
+-- | What a conversion decided (Table 4-6), told when it changed the number:
+-- a REAL made an integer by @real-to-int@ (MT-CONV-9), a narrowing that
+-- kept the low bits or saturated (@narrow-int@, MT-CONV-13), a bit pattern
+-- read with another sign (MT-CONV-5).
+conversionDecisions :: BasicType -> BasicType -> Value -> Value -> [Decision]
+conversionDecisions from to v w
+  | from == to || BOOL `elem` [from, to] = []
+  | otherwise = case (v, valueToInteger v, valueToInteger w) of
+      (VReal r, _, Just n)
+        | realToRational r /= Just (fromInteger n) -> [ruled ["MT-CONV-9"] "real-to-int" shown]
+      (_, Just k, Just n)
+        | k /= n && typeBits to < typeBits from -> [ruled ["MT-CONV-13"] "narrow-int" shown]
+        | k /= n -> [decision ["MT-CONV-5"] (shown <> ": the same bits")]
+      _ -> []
+  where
+    shown = conversionName from to <> "(" <> showValue v <> ") = " <> showValue w
+
+-- | 'elementIndex', telling what the @index-out-of-range@ policy made of an
+-- index outside the array's bounds (MT-ARR-8).
+tracedIndex :: Policies -> Line -> Line -> Var -> Machine s -> Value -> ST s Int
+tracedIndex pol eventLine line v m iv = do
+  k <- elementIndex pol line v m iv
+  case (varType v, valueToInteger iv) of
+    (Array lo hi _, Just n)
+      | n < lo || n > hi -> do
+          outcomeText <-
+            if k >= 0
+              then pure ("element " <> elementName v k <> " is used")
+              else (\err -> "runtime error " <> tshow (reCode err)) <$> readSTRef (mError m)
+          traceEvent m . Rule eventLine . ruled ["MT-ARR-8"] "index-out-of-range" $
+            varName v <> "[" <> tshow n <> "] is outside " <> tshow lo <> ".." <> tshow hi <> ": " <> outcomeText
+    _ -> pure ()
+  pure k
+
+-- | The name of element @k@ (0-based) of an array, with its index: @V[3]@.
+elementName :: Var -> Int -> Text
+elementName v k = case varType v of
+  Array lo _ _ -> varName v <> "[" <> tshow (lo + toInteger k) <> "]"
+  Basic _ -> varName v
+
+-- | A call as 'compileCall' makes it, telling the arguments once all are
+-- evaluated (decision A18) and the result.
+tracedCall :: Ctx -> Line -> FunId -> [CExpr] -> Run s Value
+tracedCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
+  Nothing -> \_ m -> malformed line m
+  Just fn ->
+    let argsM = map (meaning ctx) args
+        params = fnParams fn
+     in \e m -> do
+          values <- argumentValues argsM e m
+          case values of
+            Nothing -> pure (VBool False)
+            Just xs -> do
+              traceEvent m (Call at (fnName fn) [(varName p, showValue x) | (p, x) <- zip params xs])
+              if envDepth e >= maxCallDepth
+                then do
+                  traceEvent m (Rule at (decision ["MT-POU-9", "MT-LIM-1"] "at most 16 nested function calls"))
+                  raise m (runtimeError errCallDepth line) -- MT-ERR-2050
+                else do
+                  fr <- startFrame (fnFrame fn)
+                  later <- passArguments fr [(p, Meaning False (\_ _ -> pure x) (Constant x) Untyped) | (p, x) <- zip params xs] e m
+                  saved <- readSTRef (mFrame m)
+                  writeSTRef (mFrame m) fr
+                  let e' = e {envDepth = envDepth e + 1}
+                  mapM_ (\w -> w e' m) later
+                  r <- fnRun fn e' m
+                  writeSTRef (mFrame m) saved
+                  bad <- hasFailed m
+                  if bad then pure r else r <$ traceEvent m (Return at (fnName fn) [(fnName fn, showValue r)])
+  where
+    at = cxLine ctx
+    argumentValues [] _ _ = pure (Just [])
+    argumentValues (Meaning _ r _ _ : rest) e m = do
+      x <- r e m
+      bad <- hasFailed m
+      if bad then pure Nothing else fmap (x :) <$> argumentValues rest e m
+
+-- | 'tick', telling when the step budget is used up (MT-EXEC-7).
+tracedStep :: Policies -> Line -> Machine s -> ST s Flow -> ST s Flow
+tracedStep pol line m k = do
+  ok <- tick (pStepBudget pol) line m
+  if ok
+    then k
+    else do
+      traceEvent m (Rule line (ruled ["MT-EXEC-7"] "step-budget" ("the budget of " <> tshow (pStepBudget pol) <> " steps is used up")))
+      pure Failing
+
+-- | A loop ended after @n@ iterations, unless by a runtime error.
+loopEnds :: Machine s -> Line -> Int -> Flow -> ST s Flow
+loopEnds m line n flow
+  | flow == Failing = pure flow
+  | otherwise = flow <$ traceEvent m (LoopExit line n)
+
+-- | The traced closure of a statement: its steps as 'fastStmt' counts them,
+-- its expressions translated at its line.
+tracedStmt :: Ctx -> CStmt -> Run s Flow
+tracedStmt ctx = \case
+  SAssign line target x ->
+    -- MT-STMT-2: the right side is evaluated before the index of the target
+    let xM = meaning (at line) x
+     in case target of
+          LTVar v ->
+            let w = writeRunIn ctx v 0
+             in \e m -> step line m $ withValue xM e m $ \val -> w val e m >> wrote m line (varName v) val
+          LTIndex iline v ix ->
+            let ixM = meaning (at line) (indexExpr ix)
+                writers = V.generate (varElements v) (writeRun v)
+             in \e m -> step line m $ withValue xM e m $ \val -> withValue ixM e m $ \iv -> do
+                  k <- tracedIndex pol line iline v m iv
+                  if k < 0
+                    then pure Failing
+                    else case writers V.!? k of
+                      Just w -> w val e m >> wrote m line (elementName v k) val
+                      Nothing -> Failing <$ malformed iline m
+  SCall line fid args ->
+    -- MT-STMT-3: the result is discarded
+    let callM = traced (tracedCall (at line) line fid args)
+     in \e m -> step line m $ withValue callM e m $ \_ -> completed m line
+  SIf arms elseB ->
+    -- MT-STMT-6: the first true test selects its branch, else ELSE
+    let elseR = compileBlock ctx elseB
+        firstLine = case arms of
+          (l, _, _) : _ -> l
+          [] -> 0
+        chain _ [] = elseR
+        chain first ((l, c, b) : rest) =
+          let cM = meaning (at l) c
+              bR = compileBlock ctx b
+              restR = chain False rest
+              onTrue = "condition TRUE: " <> if first then "THEN" else "this ELSIF"
+              onFalse = case (rest, elseB) of
+                ([], []) -> "condition FALSE: nothing runs"
+                ([], _) -> "condition FALSE: ELSE"
+                _ -> "condition FALSE"
+           in \e m -> withValue cM e m $ \case
+                VBool True -> traceEvent m (Branch l onTrue) >> bR e m
+                VBool False -> traceEvent m (Branch l onFalse) >> restR e m
+                _ -> Failing <$ malformed l m
+        !ifR = chain True arms
+     in \e m -> step firstLine m (ifR e m)
+  SCase line sel arms elseB ->
+    -- MT-STMT-8: the first arm with a matching value or inclusive range
+    let selM = meaning (at line) sel
+        armsR = [(ranges, Just (ranges, compileBlock ctx b)) | (ranges, b) <- arms]
+        elseR = compileBlock ctx elseB
+        labels ranges = T.intercalate ", " [if lo == hi then tshow lo else tshow lo <> ".." <> tshow hi | (lo, hi) <- ranges]
+     in \e m -> step line m $ withValue selM e m $ \v -> case valueToInteger v of
+          Just k -> case selectArm k armsR Nothing of
+            Just (ranges, bR) -> traceEvent m (Branch line ("selector " <> tshow k <> " matches the labels " <> labels ranges)) >> bR e m
+            Nothing -> traceEvent m (Branch line ("selector " <> tshow k <> " matches no label: " <> if null elseB then "nothing runs" else "ELSE")) >> elseR e m
+          Nothing -> Failing <$ malformed line m
+  SWhile line c body ->
+    -- MT-STMT-13: the test before each iteration
+    let cM = meaning (at line) c
+        bodyR = compileBlock ctx body
+        loop n e m = step line m $ withValue cM e m $ \case
+          VBool False -> traceEvent m (Branch line "condition FALSE: the loop ends") >> loopEnds m line n Next
+          VBool True -> do
+            traceEvent m (Branch line "condition TRUE: the body runs")
+            traceEvent m (Iteration line (n + 1))
+            bodyR e m >>= \case
+              Next -> loop (n + 1) e m
+              Exiting -> loopEnds m line (n + 1) Next
+              other -> loopEnds m line (n + 1) other
+          _ -> Failing <$ malformed line m
+     in \e m -> step line m $ do
+          traceEvent m (Rule line (decision ["MT-STMT-13"] "the condition is tested before each iteration"))
+          traceEvent m (LoopEnter line "WHILE loop")
+          loop 0 e m
+  SRepeat body uline c ->
+    -- MT-STMT-14: the body first, the loop ends when the test is TRUE
+    let cM = meaning (at uline) c
+        bodyR = compileBlock ctx body
+        loop n e m = do
+          traceEvent m (Iteration uline (n + 1))
+          bodyR e m >>= \case
+            Exiting -> loopEnds m uline (n + 1) Next
+            Next -> step uline m $ withValue cM e m $ \case
+              VBool True -> traceEvent m (Branch uline "condition TRUE: the loop ends") >> loopEnds m uline (n + 1) Next
+              VBool False -> traceEvent m (Branch uline "condition FALSE: again") >> loop (n + 1) e m
+              _ -> Failing <$ malformed uline m
+            other -> loopEnds m uline (n + 1) other
+     in \e m -> step uline m $ do
+          traceEvent m (Rule uline (decision ["MT-STMT-14"] "the body runs first; the condition is tested after each iteration"))
+          traceEvent m (LoopEnter uline "REPEAT loop")
+          loop 0 e m
+  SFor line cv start end by body -> tracedFor (at line) line cv start end by body
+  SExit line -> \_ m -> step line m (Exiting <$ traceEvent m (Statement line)) -- MT-STMT-12
+  SReturn line -> \_ m -> step line m (Returning <$ traceEvent m (Statement line)) -- MT-STMT-4, MT-STMT-5
+  where
+    pol = cxPolicies ctx
+    at l = ctx {cxLine = l}
+    step = tracedStep pol
+    wrote m line name val = traceEvent m (Wrote line name (showValue val)) >> completed m line
+    completed m line = Next <$ traceEvent m (Statement line)
+
+-- | The traced FOR: the loop of 'compileFor' that works on values (the
+-- bounds once or before every test, @for-bounds@, MT-STMT-19; the
+-- increment by 'forNext'), telling the bounds, each iteration and the
+-- control variable's values.
+tracedFor :: Ctx -> Line -> Var -> CExpr -> CExpr -> CExpr -> [CStmt] -> Run s Flow
+tracedFor ctx line cv start end by body = \e m ->
+  step m $ withValue startM e m $ \s0 -> do
+    writeCv s0 e m
+    traceEvent m (Wrote line name (showValue s0))
+    case pForBounds pol of
+      ForOnce -> withValue endM e m $ \en -> withValue stepM e m $ \st -> do
+        traceEvent m (Rule line (ruled ["MT-STMT-19"] "for-bounds" "end and step are evaluated once, before the first test"))
+        traceEvent m (LoopEnter line (name <> " from " <> showValue s0 <> " to " <> showValue en <> " by " <> showValue st))
+        loop (\_ _ k -> k en st) e m
+      ForEveryIteration -> do
+        traceEvent m (Rule line (ruled ["MT-STMT-19"] "for-bounds" "end and step are evaluated again before every test"))
+        traceEvent m (LoopEnter line (name <> " from " <> showValue s0 <> ", end and step evaluated before each test"))
+        loop (\e' m' k -> withValue endM e' m' $ \en -> withValue stepM e' m' $ \st -> k en st) e m
+  where
+    pol = cxPolicies ctx
+    step = tracedStep pol line
+    name = varName cv
+    startM = meaning ctx start
+    endM = meaning ctx end
+    stepM = meaning ctx by
+    bodyR = compileBlock ctx body
+    readCv = readRun cv 0
+    writeCv = writeRun cv 0
+    t = varBasicType cv
+    zero = defaultValue t
+    range = (\(lo, hi) -> (fromInteger lo, fromInteger hi)) <$> intRange t
+    loop bounds e m = go 0
+      where
+        go n = step m $ bounds e m $ \en st -> do
+          c <- readCv e m
+          if forContinues zero st c en
+            then do
+              traceEvent m (Iteration line (n + 1))
+              bodyR e m >>= \case
+                Next ->
+                  increment st e m >>= \case
+                    Next -> go (n + 1)
+                    Exiting -> loopEnds m line (n + 1) Next
+                    other -> loopEnds m line (n + 1) other
+                Exiting -> loopEnds m line (n + 1) Next
+                other -> loopEnds m line (n + 1) other
+            else loopEnds m line n Next
+    increment s e m = do
+      c <- readCv e m
+      case forNext pol t range c s of
+        LeavesRange -> do
+          traceEvent m . Rule line . ruled ["MT-STMT-21"] "for-at-type-max" $
+            showValue c <> " + " <> showValue s <> " leaves " <> typeName t <> ": the loop ends, " <> name <> " keeps " <> showValue c
+          pure Exiting
+        NotANumber -> Failing <$ malformed line m
+        NextValue o -> do
+          n <- tracedOutcome pol line line m t (showValue c <> " + " <> showValue s) Nothing o
+          bad <- hasFailed m
+          if bad then pure Failing else Next <$ (writeCv n e m >> traceEvent m (Wrote line name (showValue n)))
+
+arithSymbol :: ArithOp -> Text
+arithSymbol = \case
+  OpAdd -> "+"
+  OpSub -> "-"
+  OpMul -> "*"
+  OpDiv -> "/"
+  OpMod -> "MOD"
+
+logicWord :: LogicOp -> Text
+logicWord = \case
+  OpAnd -> "AND"
+  OpOr -> "OR"
+  OpXor -> "XOR"
+
+tshow :: Show a => a -> Text
+tshow = T.pack . show

@@ -38,6 +38,9 @@ module Stref.Execution
   , compileModule
   , runCompiled
   , runCompiledLazyVars
+    -- * Tracing
+  , compileTracedModule
+  , runCompiledTraced
   , checkMappedOperands
   , checkChfParameters
   , ParamSource (..)
@@ -56,10 +59,12 @@ import qualified Data.Vector as V
 import Data.Word (Word16, Word32)
 import Stref.Checked
 import Stref.Diagnostics
-import Stref.Eval hiding (compileModule)
+import Data.STRef (readSTRef, writeSTRef)
+import Stref.Eval hiding (compileModule, compileTracedModule)
 import qualified Stref.Eval as Eval
 import Stref.Operands
 import Stref.Policy
+import Stref.Trace (Event (..), Tracer, decision, emit, newTracer)
 import Stref.Types
 import Stref.Values
 
@@ -99,7 +104,14 @@ data CallResult = CallResult
 -- band are the cells a call holds in machine words, and a mapped variable's
 -- place among them is found during the translation.
 compileModule :: Policies -> PlcConfig -> CModule -> CompiledModule
-compileModule pol cfg cm = Eval.compileModule pol (cellSlots (mappedCells (cmMapped cm) ++ bandCells cfg)) cm
+compileModule pol cfg cm = Eval.compileModule pol (moduleCells cfg cm) cm
+
+-- | 'compileModule' with tracing on, for 'runCompiledTraced'.
+compileTracedModule :: Policies -> PlcConfig -> CModule -> CompiledModule
+compileTracedModule pol cfg cm = Eval.compileTracedModule pol (moduleCells cfg cm) cm
+
+moduleCells :: PlcConfig -> CModule -> CellSlots
+moduleCells cfg cm = cellSlots (mappedCells (cmMapped cm) ++ bandCells cfg)
 
 -- | Run several calls in sequence, each on the state the previous one left.
 runCalls :: Policies -> PlcConfig -> CModule -> [CallInput] -> PlcState -> (PlcState, [CallResult])
@@ -130,8 +142,21 @@ runCompiledLazyVars :: Policies -> PlcConfig -> CModule -> CompiledModule -> Cal
 runCompiledLazyVars = runCompiledWith False
 
 runCompiledWith :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm compiled of
-  CallSetup mappedChecked noParameters table band bandKeyed initialiseData -> \ci st ->
+runCompiledWith eagerVars pol cfg cm compiled = case runCompiledTracing eagerVars pol cfg cm compiled of
+  call -> \ci st -> case call untraced ci st of
+    (st', r, _) -> (st', r)
+  where
+    untraced = newTracer False
+
+-- | 'runCompiled' for a module translated by 'compileTracedModule': the
+-- events of the call are added to the tracer, with the runtime error that
+-- ended it (and the rule that raised it).
+runCompiledTraced :: Policies -> PlcConfig -> CModule -> CompiledModule -> Tracer -> CallInput -> PlcState -> (PlcState, CallResult, Tracer)
+runCompiledTraced = runCompiledTracing True
+
+runCompiledTracing :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> Tracer -> CallInput -> PlcState -> (PlcState, CallResult, Tracer)
+runCompiledTracing eagerVars pol cfg cm compiled = case callSetup pol cfg cm compiled of
+  CallSetup mappedChecked noParameters table band bandKeyed initialiseData -> \tracer ci st ->
     let (input1, _, _) = ciInputs ci
         checks = do
           mappedChecked
@@ -139,7 +164,7 @@ runCompiledWith eagerVars pol cfg cm compiled = case callSetup pol cfg cm compil
           case (ciChfIn ci, ciChfOut ci) of
             ([], []) -> noParameters
             (ins, outs) -> checkChfParameters (pErrorLineBeforeStart pol) cfg (cmProgram cm) ins outs
-     in runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
+     in runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks tracer ci st
 
 -- | What does not depend on the call, computed once for all the calls of a
 -- module: the checks of the mapped operands and of an empty CHF parameter
@@ -183,12 +208,12 @@ callSetup pol cfg cm compiled =
       (Data _, Nothing) -> False
       _ -> True
 
-runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> CallInput -> PlcState -> (PlcState, CallResult)
-runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks ci st
+runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> Tracer -> CallInput -> PlcState -> (PlcState, CallResult, Tracer)
+runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks tracer ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
       -- stay off and nothing else changes (not even the diagnostics)
-      (st, CallResult (False, False, False) Nothing [] 0 False False)
+      (st, CallResult (False, False, False) Nothing [] 0 False False, told (Rule 0 (decision ["MT-SIG-3"] "INPUT1 is FALSE: the module does not run")) tracer)
   | otherwise = case checks of
       Left err ->
         let sn =
@@ -199,12 +224,22 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
                 , snOverflow = False
                 , snSteps = 0
                 }
-         in finish True (psRetained st) (Left err) sn
+         in withTracer (failure err tracer) (finish True (psRetained st) (Left err) sn)
       Right sources -> runST (runBody sources)
   where
+    withTracer tr (st', r) = (st', r, tr)
+    -- only a traced translation's tracer is told anything
+    told ev tr = if cmTraced compiled then emit ev tr else tr
+    -- a runtime error and the rule that raised it
+    failure err = told (Failure (reLine err) (errorRule (reCode err)) (describeErrorCode (reCode err) <> " (runtime error " <> T.pack (show (reCode err)) <> ")"))
     runBody sources = do
       m <- newMachine compiled table retainedData (psMemory st) (True, False, False) -- MT-SIG-4, A5
+      if cmTraced compiled then writeSTRef (mTrace m) tracer else pure ()
       r <- unExec (prepare sources >> cmBody compiled) env m
+      tracer' <- if cmTraced compiled then readSTRef (mTrace m) else pure tracer
+      let ended = case r of
+            Done _ -> tracer'
+            Failed err -> failure err tracer'
       case copyPairs sources of
         [] -> do
           -- nothing to copy back (P modules): the band is written in the
@@ -213,12 +248,12 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
             Done _ -> mapM_ (\(c, k, w) -> writeMachineCell m c k w) bandKeyed
             Failed err -> mapM_ (\((c, k, _), x) -> writeMachineCell m c k (bandPattern x)) (zip bandKeyed (errorBand err))
           sn <- snapshot m
-          pure $ case r of
+          pure $ withTracer ended $ case r of
             Done _ -> finish False (keep sn) (Right ()) sn
             Failed err -> finish False (keep sn) (Left err) sn
         _ -> do
           sn <- snapshot m
-          pure $ case r of
+          pure $ withTracer ended $ case r of
             Done _ -> finish True (keep sn) (Right ()) (copyBack sources sn)
             Failed err -> finish True (keep sn) (Left err) sn
     env = Env (ciInputs ci) 0

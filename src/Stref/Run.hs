@@ -19,6 +19,8 @@ module Stref.Run
   , CallStream (..)
   , streamModule
   , runSource
+    -- * Tracing
+  , runModuleTraced
     -- * Observing
   , observeOperand
   , cellOperand
@@ -27,6 +29,7 @@ module Stref.Run
   , Snippet (..)
   , SnippetResult (..)
   , evalSnippet
+  , evalSnippetTraced
   ) where
 
 import Data.Bits (shiftL)
@@ -42,6 +45,7 @@ import Stref.Operands
 import Stref.Policy
 import Stref.Syntax (Expr (..), Ident (..), Module, Pos)
 import Stref.Syntax.Parser (parseExpression, parseModule)
+import Stref.Trace (Event (..), Tracer, emit, newTracer, tracerEvents)
 import Stref.Types
 import Stref.Values
 import Stref.Verification
@@ -211,9 +215,37 @@ streamModule setup cm calls = do
   where
     -- translated and checked once for all the calls
     call = runCompiledLazyVars (rsPolicies setup) (rsPlc setup) cm (compileModule (rsPolicies setup) (rsPlc setup) cm)
-    settings c mem = case csSet c of
-      [] -> Right mem
-      sets -> traverse (declared setup) sets >> either (Left . BadSetting) Right (applySettings sets mem)
+    settings c mem = callSettings setup c mem
+
+-- | The memory with the operands a call writes before it runs.
+callSettings :: RunSetup -> CallSpec -> Memory -> Either RunFailure Memory
+callSettings setup c mem = case csSet c of
+  [] -> Right mem
+  sets -> traverse (declared setup) sets >> either (Left . BadSetting) Right (applySettings sets mem)
+
+-- | 'runModule' with tracing on (docs/trace.md): the outcome, which is the
+-- untraced run's, and the events of every call, each call's after a
+-- 'Cycle' event counting from 1. With @True@ every loop iteration is kept,
+-- else only the first few of each loop ('Stref.Trace.keptIterations').
+runModuleTraced :: Bool -> RunSetup -> CModule -> [CallSpec] -> Either RunFailure (RunOutcome, [Event])
+runModuleTraced everyIteration setup cm calls = do
+  mapM_ (declared setup) (rsInit setup ++ concatMap csSet calls)
+  mem0 <- either (Left . BadSetting) Right (applySettings (rsInit setup) emptyMemory)
+  let st0 = initialPlcState {psMemory = mem0}
+  (results, final, tracer) <- go st0 (newTracer everyIteration) (zip [1 ..] calls)
+  pure (RunOutcome cm st0 results final, tracerEvents tracer)
+  where
+    pol = rsPolicies setup
+    -- translated and checked once for all the calls
+    call = runCompiledTraced pol (rsPlc setup) cm (compileTracedModule pol (rsPlc setup) cm)
+    go :: PlcState -> Tracer -> [(Int, CallSpec)] -> Either RunFailure ([CallResult], PlcState, Tracer)
+    go st tracer = \case
+      [] -> Right ([], st, tracer)
+      (n, c) : rest -> do
+        mem <- callSettings setup c (psMemory st)
+        let (st', r, tracer') = call (emit (Cycle n) tracer) (CallInput (csInputs c) (csChfIn c) (csChfOut c)) st {psMemory = mem}
+        (rs, final, tracerN) <- go st' tracer' rest
+        pure (r : rs, final, tracerN)
 
 declared :: RunSetup -> (Operand, Setting) -> Either RunFailure ()
 declared setup (o, _)
@@ -259,7 +291,23 @@ resultName = "EVAL_RESULT"
 -- (literals take the type of their context, decision A11), or failing that
 -- the first it accepts at all.
 evalSnippet :: Policies -> Text -> Either (Text, RunFailure) SnippetResult
-evalSnippet pol snippet = case parseExpression pol snippet of
+evalSnippet pol snippet = do
+  (sn, t, cm) <- snippetModule pol snippet
+  Right (SnippetResult sn t (snd (runCall pol defaultPlcConfig cm defaultCallInput initialPlcState)))
+
+-- | 'evalSnippet' with tracing on: the result and the events of its run
+-- (every loop iteration kept with @True@).
+evalSnippetTraced :: Bool -> Policies -> Text -> Either (Text, RunFailure) (SnippetResult, [Event])
+evalSnippetTraced everyIteration pol snippet = do
+  (sn, t, cm) <- snippetModule pol snippet
+  let compiled = compileTracedModule pol defaultPlcConfig cm
+      (_, r, tracer) = runCompiledTraced pol defaultPlcConfig cm compiled (newTracer everyIteration) defaultCallInput initialPlcState
+  Right (SnippetResult sn t r, tracerEvents tracer)
+
+-- | The program a snippet is wrapped into, checked, and a bare
+-- expression's type.
+snippetModule :: Policies -> Text -> Either (Text, RunFailure) (Snippet, Maybe BasicType, CModule)
+snippetModule pol snippet = case parseExpression pol snippet of
   Right e -> do
     let conversionTarget = case e of
           ECall _ (Ident f) _ -> case lookupConversionFunction f of
@@ -278,7 +326,7 @@ evalSnippet pol snippet = case parseExpression pol snippet of
             a : _ -> Just a
             [] -> find (const True) accepted
     case chosen of
-      Just (t, src, cm) -> Right (SnippetResult (Snippet True src) (Just t) (runOne cm))
+      Just (t, src, cm) -> Right (Snippet True src, Just t, cm)
       Nothing ->
         -- report the errors of the most common reading (an INT result)
         let src = wrapExpression INT
@@ -286,9 +334,8 @@ evalSnippet pol snippet = case parseExpression pol snippet of
   Left _ -> do
     let src = "PROGRAM EVAL " <> snippet <> "\nEND_PROGRAM\n"
     cm <- either (Left . (src,)) Right (compileSource pol ProcedureModule "<eval>" src)
-    Right (SnippetResult (Snippet False src) Nothing (runOne cm))
+    Right (Snippet False src, Nothing, cm)
   where
     priority = [INT, DINT, DWORD, REAL, BOOL, WORD, BYTE, USINT]
     wrapExpression t =
       "PROGRAM EVAL VAR " <> resultName <> " : " <> typeName t <> "; END_VAR " <> resultName <> " := " <> snippet <> "\n;\nEND_PROGRAM\n"
-    runOne cm = snd (runCall pol defaultPlcConfig cm defaultCallInput initialPlcState)

@@ -110,7 +110,9 @@ tracerEvents = reverse . trEvents
 -- | Keep an event, unless it happens in an iteration that is left out
 -- (past 'keptIterations' of its loop or of a loop around it); a loop whose
 -- iterations were left out gets an 'Elided' count when it ends. Runtime
--- errors are always kept.
+-- errors are always kept, and end every loop being run (the call stops),
+-- so that what is told after them is kept too; a cycle begins with no loop
+-- running.
 emit :: Event -> Tracer -> Tracer
 emit ev t = case ev of
   LoopEnter {} -> keep (t {trLoops = LoopState 0 : trLoops t})
@@ -128,7 +130,7 @@ emit ev t = case ev of
                 then push ev (push (Elided l skipped) t')
                 else push ev t'
     [] -> keep t
-  Failure {} -> push ev t
+  Failure {} -> push ev (t {trLoops = []})
   Cycle _ -> push ev (t {trLoops = []})
   _ -> keep t
   where
