@@ -1715,9 +1715,7 @@ tracedCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
             Just xs -> do
               traceEvent m (Call at (fnName fn) [(varName p, showValue x) | (p, x) <- zip params xs])
               if envDepth e >= maxCallDepth
-                then do
-                  traceEvent m (Rule at (decision ["MT-POU-9", "MT-LIM-1"] "at most 16 nested function calls"))
-                  raise m (runtimeError errCallDepth line) -- MT-ERR-2050
+                then raise m (runtimeError errCallDepth line) -- MT-POU-9, MT-ERR-2050 (told by the runner)
                 else do
                   fr <- startFrame (fnFrame fn)
                   later <- passArguments fr [(p, Meaning False (\_ _ -> pure x) (Constant x) Untyped) | (p, x) <- zip params xs] e m
@@ -1737,15 +1735,12 @@ tracedCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
       bad <- hasFailed m
       if bad then pure Nothing else fmap (x :) <$> argumentValues rest e m
 
--- | 'tick', telling when the step budget is used up (MT-EXEC-7).
+-- | 'tick' (the runtime error 2030 it may raise is told with the rule
+-- MT-EXEC-7 by the runner, after the error: "Stref.Execution").
 tracedStep :: Policies -> Line -> Machine s -> ST s Flow -> ST s Flow
 tracedStep pol line m k = do
   ok <- tick (pStepBudget pol) line m
-  if ok
-    then k
-    else do
-      traceEvent m (Rule line (ruled ["MT-EXEC-7"] "step-budget" ("the budget of " <> tshow (pStepBudget pol) <> " steps is used up")))
-      pure Failing
+  if ok then k else pure Failing
 
 -- | A loop ended after @n@ iterations, unless by a runtime error.
 loopEnds :: Machine s -> Line -> Int -> Flow -> ST s Flow

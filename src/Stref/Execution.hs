@@ -64,7 +64,7 @@ import Stref.Eval hiding (compileModule, compileTracedModule)
 import qualified Stref.Eval as Eval
 import Stref.Operands
 import Stref.Policy
-import Stref.Trace (Event (..), Tracer, decision, emit, newTracer)
+import Stref.Trace (Event (..), Tracer, decision, emit, newTracer, ruled)
 import Stref.Types
 import Stref.Values
 
@@ -230,8 +230,17 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
     withTracer tr (st', r) = (st', r, tr)
     -- only a traced translation's tracer is told anything
     told ev tr = if cmTraced compiled then emit ev tr else tr
-    -- a runtime error and the rule that raised it
-    failure err = told (Failure (reLine err) (errorRule (reCode err)) (describeErrorCode (reCode err) <> " (runtime error " <> T.pack (show (reCode err)) <> ")"))
+    -- a runtime error, the rule that raised it, and for the limits the
+    -- rule that set them (told after the error, which ends every loop,
+    -- so that they are never left out of a summarised loop)
+    failure err tr =
+      let code = reCode err
+          limits
+            | code == errExecutionTime = [ruled ["MT-EXEC-7"] "step-budget" ("the budget of " <> T.pack (show (pStepBudget pol)) <> " steps is used up")]
+            | code == errCallDepth = [decision ["MT-POU-9", "MT-LIM-1"] "at most 16 nested function calls"]
+            | otherwise = []
+          failed = told (Failure (reLine err) (errorRule code) (T.pack (show code) <> ", " <> describeErrorCode code)) tr
+       in foldl (\t d -> told (Rule (reLine err) d) t) failed limits
     runBody sources = do
       m <- newMachine compiled table retainedData (psMemory st) (True, False, False) -- MT-SIG-4, A5
       if cmTraced compiled then writeSTRef (mTrace m) tracer else pure ()
