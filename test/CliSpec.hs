@@ -64,6 +64,45 @@ spec = describe "the stref command line" $ do
       (code, _, _) <- stref ["parse", fixture "no-such-file.st"]
       code `shouldBe` ExitFailure 2
 
+  describe "run --watch and --scenario" $ do
+    it "an IEC program: a row per cycle, a column per watched variable (a path, or a name of the program), driven by a scenario of set and numbers of cycles" $ do
+      (code, out, _) <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--scenario", fixture "tecomat-counter-scenario.yaml", "--watch", "MAIN.cnt", "--watch", "t.Q", "--watch", "t.ET"]
+      code `shouldBe` ExitSuccess
+      -- TON with PT = T#20ms, IN from cycle 1 (clock 0) to 4: Q at clock 20 (TC-FB-27), reset by IN FALSE in cycle 5
+      map words (lines out)
+        `shouldContain` [ ["cycle", "clock", "MAIN.cnt", "t.Q", "t.ET"]
+                        , ["1", "T#0ms", "1", "FALSE", "T#0ms"]
+                        , ["2", "T#10ms", "2", "FALSE", "T#10ms"]
+                        , ["3", "T#20ms", "3", "TRUE", "T#20ms"]
+                        , ["4", "T#30ms", "4", "TRUE", "T#20ms"]
+                        , ["5", "T#40ms", "5", "FALSE", "T#0ms"]
+                        , ["6", "T#50ms", "6", "FALSE", "T#0ms"]
+                        ]
+    it "a MasterTool XE module: variables and operands, INTERNAL_OVERFLOW, the runtime error, and a call with INPUT1 FALSE" $ do
+      (code, out, _) <- stref ["run", fixture "watch-mastertool.st", "--scenario", fixture "watch-mastertool-scenario.yaml", "--watch", "CNT", "--watch", "%M0006.6"]
+      code `shouldBe` ExitSuccess
+      -- CNT := CNT + 10000 from 5; the module does not run in call 2; 29995 + 10000 saturates (MT-OP-6)
+      map words (take 4 (lines out))
+        `shouldBe` [ ["call", "CNT", "%M0006.6", "INTERNAL_OVERFLOW", "error"]
+                   , ["1", "10005", "FALSE", "FALSE"]
+                   , ["2", "-", "FALSE", "FALSE", "not", "executed", "(INPUT1", "FALSE)"]
+                   , ["3", "32767", "TRUE", "FALSE"]
+                   ]
+    it "--calls 3 shows the runtime error of the call that raised it" $ do
+      (code, out, _) <- stref ["run", fixture "watch-mastertool.st", "--calls", "3", "--watch", "CNT"]
+      code `shouldBe` ExitFailure 1
+      map words (lines out) `shouldContain` [["3", "30000", "FALSE", "2020", "at", "line", "9"]]
+    it "a name that names nothing is a usage error, exit 2, for both models" $ do
+      (code, _, err) <- stref ["run", fixture "watch-mastertool.st", "--watch", "NOPE"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` ("--watch NOPE: no variable or operand of that name" `isInfixOf`)
+      (code', _, err') <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--watch", "nope"]
+      code' `shouldBe` ExitFailure 2
+      err' `shouldSatisfy` ("--watch nope: no variable of that name" `isInfixOf`)
+    it "an unknown key in a scenario names the file, its line, the key and the valid keys, exit 2" $ do
+      (code, _, err) <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--scenario", fixture "bad-scenario.yaml"]
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` ((fixture "bad-scenario.yaml" <> ":2: calls[1].bogus: unknown key 'bogus'; the keys here are: set, reset") `isInfixOf`)
   describe "check --portability" $ do
     it "lists, for an IEC program, each construct a policy decides, with file:line:col, the policy and its alternative here, and the rule ids; exit 0" $ do
       (code, out, _) <- stref ["check", "--dialect", "tecomat", "--portability", fixture "portability-tecomat.st"]
@@ -168,8 +207,8 @@ spec = describe "the stref command line" $ do
         take 1 (lines out) `shouldBe` ["{\"cycle\":1,\"event\":\"cycle\"}"]
         lines out `shouldSatisfy` all (\l -> take 1 l == "{")
         last (lines out) `shouldSatisfy` ("\"vars\"" `isInfixOf`)
-      it "run --watch keeps only the statements that read or write the name" $ do
-        (_, out, _) <- stref ["eval", "--dialect", "tecomat", "--watch", "y", "VAR x : INT; y : INT; END_VAR x := 1; y := 2; x := 3;"]
+      it "--trace --watch keeps only the statements that read or write the name" $ do
+        (_, out, _) <- stref ["eval", "--dialect", "tecomat", "--trace", "--watch", "y", "VAR x : INT; y : INT; END_VAR x := 1; y := 2; x := 3;"]
         out `shouldSatisfy` ("-> y := 2" `isInfixOf`)
         out `shouldNotSatisfy` ("-> x := 3" `isInfixOf`)
       it "eval --compare POLICY --trace shows both traces from the first point where they part (TC-OP-20)" $ do
@@ -186,6 +225,19 @@ spec = describe "the stref command line" $ do
         out `shouldSatisfy` ("the reference's trace of tecomat/statements/for-default-step-one" `isInfixOf`)
         out `shouldSatisfy` ("rule TC-STMT-26, TC-STMT-27" `isInfixOf`)
         out `shouldSatisfy` ("1 passed" `isInfixOf`)
+      it "MasterTool XE: run --trace cites MT-OP-6 with the alternative in force, and the runtime error's rule (MT-ERR-2020)" $ do
+        (code, out, _) <- stref ["run", "--trace", fixture "trace-scaled.st"]
+        code `shouldBe` ExitFailure 1
+        out `shouldSatisfy` ("ACC = 2147483000, V[10] = 30; -> ACC := 2147483647" `isInfixOf`)
+        out `shouldSatisfy` ("rule MT-OP-6: 2147483000 + 900 = 2147483647: DINT saturates (overflow=saturate)" `isInfixOf`)
+        out `shouldSatisfy` ("runtime error: 2020, division by zero (MT-ERR-2020)" `isInfixOf`)
+        out `shouldSatisfy` ("... 7 more iterations not shown" `isInfixOf`)
+      it "MasterTool XE: conformance CASE --explain, with an engine that differs, shows the trace and the differences" $ do
+        bin <- strefBinary
+        (code, out, _) <- stref ["conformance", "--explain", "--engine", bin <> " engine --policy overflow=wrap", "conformance/mastertool-xe/operators/associativity-with-saturation.st"]
+        code `shouldBe` ExitFailure 1
+        out `shouldSatisfy` ("rule MT-OP-6: 32767 + 1 = 32767: INT saturates (overflow=saturate)" `isInfixOf`)
+        out `shouldSatisfy` ("FAIL mastertool-xe/operators/associativity-with-saturation: %M0030: expected 32766, got 32767" `isInfixOf`)
       it "conformance --explain needs exactly one case, exit 2" $ do
         (code, _, err) <- stref ["conformance", "--explain", "conformance/tecomat/statements"]
         code `shouldBe` ExitFailure 2

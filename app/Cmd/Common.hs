@@ -19,6 +19,7 @@ module Cmd.Common
   , TraceFlags (..)
   , traceFlags
   , traceRequest
+  , watchTable
   ) where
 
 import Control.Exception (IOException, try)
@@ -207,11 +208,15 @@ traceFlags =
   TraceFlags
     <$> switch (long "trace" <> help "Show why each value came out: every statement run, the values read and written, and each rule (with its id and the policy alternative) that decided an outcome; --format json gives one JSON event per line")
     <*> switch (long "trace-all" <> help "With --trace: every iteration of every loop (by default a loop shows its first 3 iterations, then a count)")
-    <*> many (T.pack <$> strOption (long "watch" <> metavar "NAME" <> help "With --trace: only the statements that read or write NAME (repeatable; V also matches V[2] and V.X)"))
+    <*> many (T.pack <$> strOption (long "watch" <> metavar "NAME" <> help "A table with a row per cycle and a column for NAME (repeatable: a variable, a path such as MAIN.fb.Q, or an operand); with --trace: only the statements that read or write NAME (V also matches V[2] and V.X)"))
 
 -- | Nothing without tracing; else whether every iteration is kept, and
--- the watched names. --trace-all and --watch imply --trace.
+-- the watched names. --trace-all implies --trace.
 traceRequest :: TraceFlags -> Maybe (Bool, [Text])
 traceRequest f
-  | tfTrace f || tfAll f || not (null (tfWatch f)) = Just (tfAll f, tfWatch f)
+  | tfTrace f || tfAll f = Just (tfAll f, tfWatch f)
   | otherwise = Nothing
+
+-- | The names of a watch table: --watch without --trace.
+watchTable :: TraceFlags -> [Text]
+watchTable f = maybe (tfWatch f) (const []) (traceRequest f)

@@ -14,7 +14,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr)
 import Cmd.Common
-import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, evalIecTrace, isIecDialect, sourceLine)
+import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, evalIecTrace, isIecDialect, oneStatementALine, sourceLine)
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
 import Stref.Policy
@@ -100,7 +100,7 @@ runMasterTool o = case applyPolicies (optPolicies o) of
   Left msg -> usageError "eval" msg
   Right pol -> case optCompare o of
     Nothing
-      | Just (everyIteration, watched) <- traceRequest (optTrace o) -> case evalSnippetTraced everyIteration pol snippet of
+      | Just (everyIteration, watched) <- traceRequest (optTrace o) -> case evalSnippetTraced everyIteration pol (oneStatementALine snippet) of
           Left (src, failure) -> rejected src failure
           Right (sr, events) -> do
             mapM_ TIO.putStrLn (renderText pol (sourceLine (snSource (srSnippet sr))) (watching watched (items events)))
@@ -112,7 +112,7 @@ runMasterTool o = case applyPolicies (optPolicies o) of
       Left msg -> usageError "eval" msg
       Right alts | Just (everyIteration, watched) <- traceRequest (optTrace o) -> do
         -- each alternative's trace from the first item where they part
-        let runs = [(alt, p, evalSnippetTraced everyIteration p snippet) | (alt, p) <- alts]
+        let runs = [(alt, p, evalSnippetTraced everyIteration p (oneStatementALine snippet)) | (alt, p) <- alts]
         case [(alt, p, snSource (srSnippet sr), watching watched (items events)) | (alt, p, Right (sr, events)) <- runs] of
           ran@((_, _, src, _) : _) -> do
             mapM_ TIO.putStrLn (compareTraces (T.pack name) (sourceLine src) [(alt, p, its) | (alt, p, _, its) <- ran])
@@ -147,8 +147,12 @@ compareTraces policy source runs = case parting [its | (_, _, its) <- runs] of
   Just k ->
     let (_, p0, its0) = head runs
         shared = take k its0
-     in ["the alternatives of " <> policy <> " agree on the first " <> T.pack (show k) <> " trace items; the last ones:"]
-          ++ map ("  " <>) (renderText p0 source (drop (k - contextItems) shared))
+     in ( if k == 0
+            then ["the alternatives of " <> policy <> " part at the first trace item"]
+            else
+              ["the alternatives of " <> policy <> " agree on the first " <> T.pack (show k) <> " trace items; the last ones:"]
+                ++ map ("  " <>) (renderText p0 source (drop (k - contextItems) shared))
+        )
           ++ concat
             [ "" : ("under " <> policy <> "=" <> alt <> ":") : map ("  " <>) (renderText p source (take shownItems (drop k its)))
             | (alt, p, its) <- runs

@@ -11,17 +11,19 @@ module Cmd.Iec
   , evalIecRows
   , evalIecTrace
   , sourceLine
+  , oneStatementALine
   , RunIecOptions (..)
   , compareIec
   ) where
 
-import Control.Monad (foldM, forM_, when)
+import Control.Monad (foldM, forM_, unless, when)
 import Data.Aeson ((.=))
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (isAlpha, isAlphaNum, toUpper)
 import Data.List (sortOn)
+import Data.Maybe (fromMaybe)
 import Data.Scientific (floatingOrInteger)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
@@ -30,10 +32,10 @@ import qualified Data.Text.IO as TIO
 import System.Exit
 import System.IO (stderr)
 import Stref.Conformance.Protocol (Scalar (..))
-import Stref.IEC.Check (ProgramChoice (..), checkUnit)
+import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
 import Stref.IEC.Checked
 import Stref.IEC.Engine
-import Stref.IEC.Eval (Machine (..), Stop (..), readVariablePath, traceOf)
+import Stref.IEC.Eval (Machine (..), Stop (..), readLocatedVar, readVariablePath, traceOf)
 import Stref.IEC.Parser (parseUnit)
 import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (TIME))
@@ -116,6 +118,8 @@ data RunIecOptions = RunIecOptions
   , riTrace :: Maybe (Bool, [Text])
   -- ^ @--trace@: whether every loop iteration is kept (@--trace-all@), and
   -- the @--watch@ names
+  , riWatch :: [Text] -- ^ @--watch@ without @--trace@: a table, a row per cycle
+  , riScenario :: Maybe [Call] -- ^ @--scenario FILE@: the cycles, instead of @--calls@
   }
 
 -- | @stref run --dialect tecomat FILE@: the programs over N cycles on the
@@ -127,20 +131,40 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
   Right cycle -> do
     let choice = maybe ProgramsOfConfiguration ProgramNamed (riProgram o)
         sets = [(p, toScalar v) | (p, v) <- riSets o]
-        calls = Scan sets : replicate (max 0 (riCalls o - 1)) (Scan [])
-    case runProgramTraced (fst <$> riTrace o) pol file src choice cycle [] (if riCalls o <= 0 then [] else calls) of
+        calls = case riScenario o of
+          -- --set writes before the first cycle of a scenario too
+          Just (Scan first : rest) -> Scan (sets ++ first) : rest
+          Just scenario -> scenario
+          Nothing -> if riCalls o <= 0 then [] else Scan sets : replicate (riCalls o - 1) (Scan [])
+        observer = if null (riWatch o) then Nothing else Just (\prog m -> map (watchValue pol prog m) (riWatch o))
+    case runProgramWatched observer (fst <$> riTrace o) pol file src choice cycle [] calls of
       Left e
         | riJson o -> BL.putStrLn (A.encode (rejectionJson file [e])) >> pure (ExitFailure 1)
         | otherwise -> do
             TIO.hPutStr stderr (renderError file src e)
             pure (ExitFailure 1)
       Right (Left e) -> usage e
-      Right (Right r) -> do
+      Right (Right (_, (_, row) : _)) | Just bad <- lookup Nothing (zip row (riWatch o)) ->
+        usage ("--watch " <> bad <> ": no variable of that name (give a path such as MAIN.x, a global, or a direct address such as %QX0.0)")
+      Right (Right (r, rows)) -> do
         let vars = observedVariables r
             err = rrError r
         forM_ (riTrace o) $ \(_, watch) ->
           mapM_ TIO.putStrLn $
             (if riJson o then renderJsonLines pol else renderText pol (sourceLine src)) (watching watch (items (traceOf (rrMachine r))))
+        let errorIn k = case err of
+              Just (k', StopFault (Pos l _) f) | k' == k -> Just (faultKind f <> " at line " <> T.pack (show l))
+              _ -> Nothing
+            clockAt k = (toInteger k - 1) * cycle
+        unless (null (riWatch o)) $
+          if riJson o
+            then forM_ rows $ \(k, vs) ->
+              BL.putStrLn (A.encode (A.object (["cycle" .= k, "clock_ms" .= clockAt k, "vars" .= A.object [K.fromText n .= v | (n, Just v) <- zip (riWatch o) vs]] ++ ["error" .= e | Just e <- [errorIn k]])))
+            else
+              mapM_ TIO.putStrLn $
+                table
+                  (["cycle", "clock"] ++ riWatch o ++ ["error" | err /= Nothing])
+                  [[T.pack (show k), renderTime TIME (clockAt k)] ++ map (maybe "?" scalarText) vs ++ [fromMaybe "" (errorIn k) | err /= Nothing] | (k, vs) <- rows]
         if riJson o
           then
             BL.putStrLn $
@@ -156,7 +180,8 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
             case err of
               Nothing -> putStrLn "error: none"
               Just (k, StopFault (Pos l _) f) -> putStrLn ("error: " <> T.unpack (faultKind f) <> " in cycle " <> show k <> " at line " <> show l <> ": " <> T.unpack (faultMessage f))
-            forM_ vars $ \(n, v) -> TIO.putStrLn ("  " <> n <> " = " <> scalarText v)
+            -- a watch table shows what was asked for; without one, every variable
+            when (null (riWatch o)) $ forM_ vars $ \(n, v) -> TIO.putStrLn ("  " <> n <> " = " <> scalarText v)
         pure (maybe ExitSuccess (const (ExitFailure 1)) err)
   where
     usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
@@ -221,6 +246,26 @@ compareIec variants file src o = case mapM (\(_, p) -> cycleMillis p (riCycle o)
   where
     usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
 
+-- | A watched name's value after a cycle: a path (@MAIN.x@, @MAIN.fb.Q@,
+-- @MAIN.a[2]@), a global, a variable of the only program instance named
+-- without its instance, or a direct address; Nothing when it names none.
+watchValue :: Policies -> Program -> Machine -> Text -> Maybe Scalar
+watchValue pol prog m name
+  | "%" `T.isPrefixOf` name = case locationOf pol name of
+      Right l -> Just (valueScalar (readLocatedVar l (locationType l) m))
+      Left _ -> Nothing
+  | otherwise = case [v | p <- name : [inst <> "." <> name | (inst, _) <- prRoots prog], Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath prog m steps]] of
+      v : _ -> Just (valueScalar v)
+      [] -> Nothing
+
+-- | Rows under a header, in columns as wide as their widest cell.
+table :: [Text] -> [[Text]] -> [Text]
+table header rows = map line (header : rows)
+  where
+    widths = [maximum (map T.length col) | col <- transposed (header : rows)]
+    transposed xs = if any null xs then [] else map head xs : transposed (map tail xs)
+    line cells = T.stripEnd (T.intercalate "  " [T.justifyLeft w ' ' c | (w, c) <- zip widths cells])
+
 -- | The text of a source line, for the trace.
 sourceLine :: Text -> Int -> Text
 sourceLine src l = case drop (l - 1) (T.lines src) of
@@ -275,7 +320,7 @@ scalarText = \case
 evalIec :: Policies -> Text -> Int -> Maybe (Bool, [Text]) -> IO ExitCode
 evalIec pol snippet calls traced = do
   let src = snippetProgram (maybe snippet (const (oneStatementALine snippet)) traced)
-  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False traced)
+  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False traced [] Nothing)
 
 -- | A snippet as the body of PROGRAM MAIN (its line 1 is the program's 2).
 snippetProgram :: Text -> Text

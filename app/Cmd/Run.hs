@@ -9,6 +9,7 @@ import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
+import Control.Monad (unless)
 import Data.Char (isDigit)
 import Data.Foldable (forM_, toList)
 import qualified Data.Map.Strict as M
@@ -23,8 +24,11 @@ import System.Exit
 import System.IO (stderr, stdout)
 import Cmd.Common
 import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec, sourceLine)
+import Stref.Conformance.Case (Case (..), CallSetup (CallSetup), ExpValue (..), IecCall (..), IecSetup (..), iecScalar, parseScenario)
+import Stref.IEC.Engine (Call (..))
+import Stref.IEC.Eval (resetEvents)
 import Stref.Policy (PolicyInfo (..), lookupPolicy, setPolicy)
-import Stref.Checked (ModuleKind (..))
+import Stref.Checked (CModule (..), ModuleKind (..))
 import Stref.Diagnostics
 import Stref.Execution
 import Stref.Operands
@@ -50,6 +54,7 @@ data Options = Options
   , optPresets :: [String]
   , optCompare :: Maybe String
   , optTrace :: TraceFlags
+  , optScenario :: Maybe FilePath
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -83,6 +88,7 @@ options =
     <*> many (strOption (long "presets" <> metavar "NAME" <> help "IEC dialects: run under this preset too, side by side with the others given (repeatable: --presets tecomat --presets rusty); exit 1 when they differ"))
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "IEC dialects: run under every alternative of this policy, side by side; exit 1 when they differ"))
     <*> traceFlags
+    <*> optional (strOption (long "scenario" <> metavar "FILE" <> help "The calls as a YAML list, as a corpus case's calls: key (inputs and set per call; IEC: {set: ...}, a number of cycles, {reset: ...}); instead of --calls"))
 
 -- | What a PLC file describes.
 data PlcFile = PlcFile
@@ -101,9 +107,13 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
       Left msg -> usageError "run" msg
       Right src -> case traverse splitSet (optSets o) of
         Left msg -> usageError "run" msg
-        Right sets ->
-          let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o))
-           in case variants pol of
+        Right sets -> do
+          scenario <- traverse (readScenario (optDialect o)) (optScenario o)
+          case sequence scenario of
+            Left msg -> usageError "run" msg
+            Right calls -> do
+              let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls)
+              case variants pol of
                 Left msg -> usageError "run" msg
                 Right [] -> runIec pol (optFile o) src ro
                 Right vs -> compareIec vs (optFile o) src ro
@@ -128,6 +138,19 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
       (k, v) | not (T.null v) -> Right (T.strip k, T.strip (T.drop 1 v))
       _ -> Left ("--set takes PATH=VALUE, e.g. MAIN.start=TRUE, not '" <> T.pack kv <> "'")
 
+-- | A scenario file read as a case's calls under the dialect.
+readScenario :: String -> FilePath -> IO (Either Text Case)
+readScenario dialect file = do
+  text <- readSource file
+  pure (text >>= parseScenario file (T.pack dialect))
+
+-- | An IEC scenario's cycles.
+iecScenario :: Case -> [Call]
+iecScenario c =
+  [ maybe (Scan [(k, iecScalar v) | (k, v) <- icSet ic]) Reset (icReset ic >>= (`lookup` resetEvents))
+  | ic <- maybe [] iecCalls (caseIec c)
+  ]
+
 runMasterTool :: Options -> IO ExitCode
 runMasterTool o = do
   setup <- pure $ do
@@ -151,21 +174,38 @@ runMasterTool o = do
     Right (pol, kind, sets, ins, outs, inputs, fmtJson) -> do
       plcE <- maybe (pure (Right (PlcFile defaultPlcConfig [] [] []))) readPlcFile (optPlc o)
       srcE <- readSource (optFile o)
-      case (plcE, srcE) of
-        (Left msg, _) -> usageError "run" msg
-        (_, Left msg) -> usageError "run" msg
-        (Right plc, Right src) -> do
+      scenarioE <- sequence <$> traverse (readScenario "mastertool-xe") (optScenario o)
+      case (plcE, srcE, scenarioE) of
+        (Left msg, _, _) -> usageError "run" msg
+        (_, Left msg, _) -> usageError "run" msg
+        (_, _, Left msg) -> usageError "run" msg
+        (Right plc, Right src, Right scenario) -> do
           let chfIn = if null ins then pfChfIn plc else ins
               chfOut = if null outs then pfChfOut plc else outs
               runSetup = RunSetup pol (pfConfig plc) kind (pfInit plc ++ sets)
-              calls = replicate (optCalls o) (CallSpec inputs [] chfIn chfOut)
+              callsOf = \case
+                -- --input1..3 are the default of a scenario's calls that give none
+                Nothing -> Right (replicate (optCalls o) (CallSpec inputs [] chfIn chfOut))
+                Just c -> traverse (\(CallSetup given set) -> (\set' -> CallSpec given set' chfIn chfOut) <$> traverse setting set) (caseCalls c)
+              setting (op, v) = case v of
+                EInt n -> Right (op, SetInt n)
+                EBool b -> Right (op, SetBool b)
+                EReal f -> Right (op, SetReal f)
+                EBits w -> Right (op, SetInt (toInteger w))
+                _ -> Left ("the scenario sets " <> renderOperand op <> " to a value an operand cannot take")
               started = do
+                calls <- either (Left . BadSetting) Right (callsOf scenario)
                 cm <- compileSource pol kind (optFile o) src
+                case [n | n <- watchTable (optTrace o), not (watchable cm n)] of
+                  [] -> pure ()
+                  bad : _ -> Left (BadSetting ("--watch " <> bad <> ": no variable or operand of that name (a variable as declared, P.X for a program's, or an operand such as %M0010)"))
                 case traceRequest (optTrace o) of
                   Just (everyIteration, _) -> do
                     -- a traced run keeps its calls: a trace is read by a person
                     (outcome, events) <- runModuleTraced everyIteration runSetup cm calls
-                    pure (roInitial outcome, foldr CallStep (CallsDone (roFinal outcome)) (roResults outcome), events)
+                    -- (the states between the calls are not kept: only a
+                    -- watch table reads them, and a trace replaces it)
+                    pure (roInitial outcome, foldr (\r rest -> CallStep r (roFinal outcome) rest) (CallsDone (roFinal outcome)) (roResults outcome), events)
                   Nothing -> (\(initial, stream) -> (initial, stream, [])) <$> streamModule runSetup cm calls
           case started of
             Left (BadSetting msg) -> usageError "run" msg
@@ -182,8 +222,14 @@ runMasterTool o = do
                   (if fmtJson then renderJsonLines pol else renderText pol (sourceLine src)) (watching watched (items events))
               -- the calls are printed as they happen, so that memory does
               -- not grow with --calls
+              let watched = watchTable (optTrace o)
+                  render
+                    | not (null watched) = printCallWatch fmtJson watched
+                    | fmtJson = \k r _ -> printCallJson k r
+                    | otherwise = \k r _ -> printCallText k r
               if fmtJson then BL.putStr "{\"calls\":[" else pure ()
-              ended <- consumeCalls (if fmtJson then printCallJson else printCallText) stream
+              unless (null watched || fmtJson) $ TIO.putStrLn (watchRow (["call"] ++ watched ++ ["INTERNAL_OVERFLOW", "error"]))
+              ended <- consumeCalls render stream
               case ended of
                 Left (BadSetting msg) -> usageError "run" msg
                 Left failure -> do
@@ -215,12 +261,12 @@ data Tally = Tally
 data CallOutput = Bytes BB.Builder | Direct (IO ())
 
 -- | Print the calls as the stream produces them, in batches of bytes.
-consumeCalls :: (Int -> CallResult -> CallOutput) -> CallStream -> IO (Either RunFailure Tally)
+consumeCalls :: (Int -> CallResult -> PlcState -> CallOutput) -> CallStream -> IO (Either RunFailure Tally)
 consumeCalls render = go 1 mempty Nothing False
   where
     go !k pending lastResult !failed = \case
-      CallStep r rest -> do
-        pending' <- case render k r of
+      CallStep r st rest -> do
+        pending' <- case render k r st of
           Bytes b
             | k `mod` batch /= 0 -> pure (pending <> b)
             | otherwise -> mempty <$ putBytes (pending <> b)
@@ -236,6 +282,41 @@ data RunSummary = RunSummary
   , rsAfter :: Memory
   , rsLastCall :: Maybe CallResult
   }
+
+-- | A watch table's row for one call (@--watch NAME@): each name's value
+-- after the call (a variable by its name, as declared or qualified, or an
+-- operand; @-@ for a variable when the module did not run), INTERNAL_OVERFLOW,
+-- and the runtime error if any; as JSON, one object in the calls array.
+printCallWatch :: Bool -> [Text] -> Int -> CallResult -> PlcState -> CallOutput
+printCallWatch json names k r st
+  | json = Direct (BL.putStr ((if k > 1 then "," else "") <> A.encode (A.object ["call" A..= k, "vars" A..= A.object [K.fromText n A..= showValue v | (n, Just v) <- zip names values], "internal_overflow" A..= crOverflow r, "error" A..= fmap errorText (crError r)])))
+  | otherwise = Direct (TIO.putStrLn (watchRow ([T.pack (show k)] ++ map (maybe "-" showValue) values ++ [showValue (VBool (crOverflow r)), maybe (if crExecuted r then "" else "not executed (INPUT1 FALSE)") errorText (crError r)])))
+  where
+    values = map (watchedValue r st) names
+    errorText e = T.pack (show (reCode e)) <> " at line " <> T.pack (show (reLine e))
+
+-- | A watched name's value after a call: an operand, or a variable named
+-- as declared (any case) or qualified (P.X, P.V[3]).
+watchedValue :: CallResult -> PlcState -> Text -> Maybe Value
+watchedValue r st name = case parseOperand name of
+  Right op -> Just (observeOperand (psMemory st) op)
+  Left _ -> case [v | (n, v) <- crVars r, T.toUpper n == upper || ("." <> upper) `T.isSuffixOf` T.toUpper n] of
+    v : _ -> Just v
+    [] -> Nothing
+  where
+    upper = T.toUpper name
+
+-- | Does a --watch name name an operand or one of the module's variables?
+watchable :: CModule -> Text -> Bool
+watchable cm name = case parseOperand name of
+  Right _ -> True
+  Left _ -> any matches (map fst (cmNamed cm))
+  where
+    base = T.toUpper (T.takeWhile (/= '[') name)
+    matches n = let u = T.toUpper n in u == base || ("." <> base) `T.isSuffixOf` u
+
+watchRow :: [Text] -> Text
+watchRow = T.stripEnd . T.concat . map (\c -> T.justifyLeft (max 12 (T.length c + 2)) ' ' c)
 
 -- | One call's line. The common lines are built as bytes (ASCII); an error's
 -- message goes through the handle's text encoding, as the rest of the report.

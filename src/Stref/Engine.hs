@@ -29,7 +29,7 @@ import Stref.Conformance.Protocol
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
 import Stref.IEC.Engine (iecEngine, iecTrace)
-import Stref.Trace (Event)
+import Stref.Trace (Event (..), emit, newTracer, tracerEvents)
 import Stref.Operands
 import Stref.Policy
 import Stref.Syntax (Pos (..))
@@ -65,11 +65,15 @@ referenceTrace overrides rq = do
   pol <- requestPolicies overrides rq
   case pModel pol of
     IecController -> let (a, evs) = iecTrace False pol rq in Right (pol, a, evs)
-    MasterToolController -> (pol,,[]) <$> mastertoolEngine pol rq
+    MasterToolController -> (\(a, evs) -> (pol, a, evs)) <$> mastertoolAnswer True pol rq
 
 -- | The MasterTool XE controller's answer (a module called N times).
 mastertoolEngine :: Policies -> Request -> Either Text Answer
-mastertoolEngine pol rq = do
+mastertoolEngine pol rq = fst <$> mastertoolAnswer False pol rq
+
+-- | The answer, and when traced the events of the calls.
+mastertoolAnswer :: Bool -> Policies -> Request -> Either Text (Answer, [Event])
+mastertoolAnswer traced pol rq = do
   kind <- case T.toUpper (rqModule rq) of
     "P" -> Right ProcedureModule
     "F" -> Right FunctionModule
@@ -84,18 +88,26 @@ mastertoolEngine pol rq = do
   calls <- traverse (\c -> (,) (callInputs c) <$> sortedOperands (callSet c)) (rqCalls rq)
   if null calls then Left "the request has no calls" else Right ()
   pure $ case parseModule pol (T.unpack (rqCase rq)) (rqSource rq) of
-    Left e -> rejected e
+    Left e -> (rejected e, [])
     Right m -> case checkModule pol kind m of
-      Left [] -> AnswerRejected Nothing Nothing "the program was rejected"
-      Left es -> rejected (minimumBy (comparing vePos) es)
+      Left [] -> (AnswerRejected Nothing Nothing "the program was rejected", [])
+      Left es -> (rejected (minimumBy (comparing vePos) es), [])
       Right cm ->
-        let step (st, _) (ins, sets) =
-              let mem = foldl (\acc (op, s) -> either (const acc) id (writeScalar acc (op, s))) (psMemory st) sets
-                  input = CallInput ins (maybe [] fst chf) (maybe [] snd chf)
-                  (st', res) = runCall pol cfg cm input st {psMemory = mem}
+        let before st sets = st {psMemory = foldl (\acc (op, s) -> either (const acc) id (writeScalar acc (op, s))) (psMemory st) sets}
+            input ins = CallInput ins (maybe [] fst chf) (maybe [] snd chf)
+            step (st, _) (ins, sets) =
+              let (st', res) = runCall pol cfg cm (input ins) (before st sets)
                in (st', Just res)
-            (final, lastResult) = foldl step (initialPlcState {psMemory = initial}, Nothing) calls
-         in maybe (AnswerUnsupported "the request has no calls") (observe (psMemory final) observed) lastResult
+            -- the same calls on the traced translation (docs/trace.md)
+            compiled = compileTracedModule pol cfg cm
+            tracedStep (st, _, tr) (k, (ins, sets)) =
+              let (st', res, tr') = runCompiledTraced pol cfg cm compiled (emit (Cycle k) tr) (input ins) (before st sets)
+               in (st', Just res, tr')
+            start = initialPlcState {psMemory = initial}
+            answer final = maybe (AnswerUnsupported "the request has no calls") (observe (psMemory final) observed)
+         in if traced
+              then let (final, lastResult, tr) = foldl tracedStep (start, Nothing, newTracer False) (zip [1 ..] calls) in (answer final lastResult, tracerEvents tr)
+              else let (final, lastResult) = foldl step (start, Nothing) calls in (answer final lastResult, [])
   where
     rejected (VerificationError k (Pos l _) msg) = AnswerRejected (Just l) (Just k) msg
     chfArgs (ChfRequest i o) = (,) <$> traverse parseChfArg i <*> traverse parseChfArg o

@@ -184,14 +184,14 @@ runModule setup cm calls = do
         CallsFailed failure -> Left failure
         -- each result's variables are read now, so that the kept results do
         -- not keep every call's final state alive
-        CallStep r rest -> foldr (seq . snd) () (crVars r) `seq` (\(rs, final) -> (r : rs, final)) <$> collect rest
+        CallStep r _ rest -> foldr (seq . snd) () (crVars r) `seq` (\(rs, final) -> (r : rs, final)) <$> collect rest
   (results, final) <- collect stream
   pure (RunOutcome cm st0 results final)
 
 -- | The results of a run as the calls happen: consumed once, in order, a
 -- run of any length needs constant memory (the command line's @--calls@).
 data CallStream
-  = CallStep !CallResult CallStream
+  = CallStep !CallResult PlcState CallStream -- ^ a call's result and the state it left
   | CallsDone !PlcState -- ^ the state after the last call
   | CallsFailed RunFailure -- ^ a call's operand setting does not fit
 
@@ -210,7 +210,7 @@ streamModule setup cm calls = do
           Right mem ->
             let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
                 (st', r) = call ci st {psMemory = mem}
-             in st' `seq` CallStep r (go st' rest)
+             in st' `seq` CallStep r st' (go st' rest)
   pure (st0, go st0 calls)
   where
     -- translated and checked once for all the calls

@@ -1,7 +1,7 @@
 -- | The trace of IEC runs (docs/trace.md): the lines, values and rule ids a
 -- known program's trace must show, worked out by hand from the rules
--- named; and that tracing changes no result (the whole IEC corpus, traced
--- and not).
+-- named; and that tracing changes no result (the whole corpus, traced and
+-- not).
 module IEC.TraceSpec (spec) where
 
 import qualified Data.Aeson as A
@@ -14,6 +14,7 @@ import Stref.Conformance.Case (Case (..), effectiveExpect)
 import Stref.Conformance.Corpus
 import Stref.Conformance.Runner (buildRequest, casePolicies, defaultRunOptions)
 import Stref.IEC.Check (ProgramChoice (..))
+import Stref.Engine (referenceEngine, referenceTrace)
 import Stref.IEC.Engine
 import Stref.IEC.Eval (traceOf)
 import Stref.Policy
@@ -100,15 +101,15 @@ spec = describe "IEC.Trace" $ do
     it "gives a statement its reads, writes and rules with policy and alternative" $
       jsonLines `shouldSatisfy` (`has` "{\"alternative\":\"saturate\",\"policy\":\"overflow\",\"rules\":[\"TC-OP-20\"]")
   describe "tracing changes no result" $
-    it "every tecomat and nexto corpus case gives the same answer traced and not" $ do
-      corpus <- loadCorpus ["conformance/tecomat", "conformance/nexto"]
+    it "every corpus case, of every dialect, gives the same answer traced (conformance --explain) and not" $ do
+      corpus <- loadCorpus ["conformance"]
       let cases = [c | Loaded c <- corpusEntries corpus]
           differing =
             [ caseId c
             | c <- cases
             , Right pol <- [casePolicies defaultRunOptions c]
             , let rq = buildRequest pol c (effectiveExpect pol c)
-            , fst (iecTrace False pol rq) /= iecEngine pol rq
+            , fmap (\(_, a, _) -> a) (referenceTrace [] rq) /= Right (referenceEngine [] rq)
             ]
-      length cases `shouldSatisfy` (> 1000)
+      length cases `shouldSatisfy` (> 2000)
       differing `shouldBe` []

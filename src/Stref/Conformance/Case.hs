@@ -23,6 +23,7 @@ module Stref.Conformance.Case
   , IecCall (..)
   , iecScalar
   , parseCase
+  , parseScenario
   , effectiveExpect
   , expectedVerdict
   , expValueScalar
@@ -314,6 +315,20 @@ type V = Either (Path, Text)
 
 failAt :: Path -> Text -> V a
 failAt p m = Left (p, m)
+
+-- | A scenario (@stref run --scenario FILE@): a YAML list of calls as a
+-- case's @calls:@ key of the dialect takes them (corpus-format §3 and §4.1),
+-- read by the case reader itself; errors name the scenario file's lines.
+parseScenario :: FilePath -> Text -> Text -> Either Text Case
+parseScenario file dialect yaml =
+  either (Left . relocate) Right $
+    parseCase "<scenario>" (CaseOrigin "scenario" dialect "scenario") (const True) doc
+  where
+    doc = T.unlines (["(*---", "description: scenario", "rules: [SCENARIO]", "calls:"] ++ map ("  " <>) (T.lines yaml) ++ ["---*)"])
+    -- "<scenario>:L: message", L counted in doc, whose line 5 is the file's 1
+    relocate e = case T.breakOn ": " <$> T.stripPrefix "<scenario>:" e of
+      Just (l, rest) | [(n, "")] <- reads (T.unpack l) -> T.pack file <> ":" <> T.pack (show (max 1 (n - 4 :: Int))) <> rest
+      _ -> T.pack file <> ": " <> e
 
 -- | Parse a case from its text. The origin comes from the file's place in
 -- the corpus; @known@ tells whether a rule id is in the RULES index.

@@ -6,6 +6,7 @@ module Stref.IEC.Engine
   , iecTrace
   , runProgram
   , runProgramTraced
+  , runProgramWatched
   , Call (..)
   , RunResult (..)
   , parseVarPath
@@ -66,26 +67,36 @@ runProgram = runProgramTraced Nothing
 -- | 'runProgram', traced when given whether to keep every loop iteration
 -- ('traceOf' the result's machine gives the events, docs/trace.md).
 runProgramTraced :: Maybe Bool -> Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text RunResult)
-runProgramTraced traced pol file src choice cycle initial calls = do
+runProgramTraced traced pol file src choice cycle initial calls =
+  fmap fst <$> runProgramWatched (Nothing :: Maybe (Program -> Machine -> ())) traced pol file src choice cycle initial calls
+
+-- | 'runProgramTraced', with what the observer, if any, reads from the
+-- program and the machine after each cycle (@stref run --watch@), by cycle
+-- number.
+runProgramWatched :: Maybe (Program -> Machine -> a) -> Maybe Bool -> Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text (RunResult, [(Int, a)]))
+runProgramWatched observer traced pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
   pure $ do
     let (started, initError) = initialize pol prog Nothing (maybe id startTrace traced (initialMachine prog))
     m0 <- foldM (setPath pol prog) started initial
-    let go m k err [] = Right (RunResult prog m err (k - 1))
-        go m k err (Reset ev : rest) =
+    let done m k err seen = Right (RunResult prog m err (k - 1), reverse seen)
+        go m k err seen [] = done m k err seen
+        go m k err seen (Reset ev : rest) =
           let (m1, stop) = restart pol prog ev m
-           in go m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) rest
-        go m k err (Scan sets : rest) = do
+           in go m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) seen rest
+        go m k err seen (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
           let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) (traceCycle k m1)
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
+              -- nothing kept without an observer: a long run stays in constant memory
+              seen' = maybe seen (\f -> (k, f prog m2) : seen) observer
           case stop of
-            Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k)
-            _ -> go m2 (k + 1) err' rest
+            Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k, reverse seen')
+            _ -> go m2 (k + 1) err' seen' rest
     case initError of
-      Just e -> Right (RunResult prog m0 (Just (1, e)) 0)
-      Nothing -> go m0 1 Nothing calls
+      Just e -> Right (RunResult prog m0 (Just (1, e)) 0, [])
+      Nothing -> go m0 1 Nothing [] calls
 
 -- | Write a variable or a located variable before a cycle.
 setPath :: Policies -> Program -> Machine -> (Text, Scalar) -> Either Text Machine
