@@ -103,6 +103,27 @@ spec = describe "the stref command line" $ do
       (code, _, err) <- stref ["run", "--dialect", "tecomat", fixture "tecomat-counter.st", "--scenario", fixture "bad-scenario.yaml"]
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` ((fixture "bad-scenario.yaml" <> ":2: calls[1].bogus: unknown key 'bogus'; the keys here are: set, reset") `isInfixOf`)
+  describe "messages a PLC engineer understands" $ do
+    it "a missing END_IF: IEC dialects report it at the IF, saying where the parser noticed" $ do
+      (code, _, err) <- stref ["check", "--dialect", "tecomat", fixture "if-not-closed.st"]
+      code `shouldBe` ExitFailure 1
+      err `shouldSatisfy` ("if-not-closed.st:5:3: error: this IF is not closed: END_IF is missing (the parser reached 'END_WHILE' at line 7, column 1 while looking for it)" `isInfixOf`)
+    it "MasterTool XE keeps MT-VERR-4's place (where the parser noticed) and names the IF left open" $ do
+      (code, _, err) <- stref ["check", fixture "if-not-closed.st"]
+      code `shouldBe` ExitFailure 1
+      err `shouldSatisfy` ("if-not-closed.st:7:1: error: expected END_IF instead of 'END_WHILE': the IF at line 5, column 3 is not closed" `isInfixOf`)
+    it "eval errors point into the snippet, not into its wrapper" $ do
+      (_, _, err) <- stref ["eval", "VAR x : INT; END_VAR x := y + 1;"]
+      err `shouldSatisfy` ("<snippet>:1:27: error: the variable y is not declared" `isInfixOf`)
+      (_, _, err') <- stref ["eval", "--dialect", "tecomat", "VAR x : INT; END_VAR IF x > 0 THEN x := 1;"]
+      err' `shouldSatisfy` ("<snippet>:1:22: error: this IF is not closed: END_IF is missing (the parser reached the end of the snippet while looking for it)" `isInfixOf`)
+    it "another dialect's construct says which dialect has it" $ do
+      (_, _, err) <- stref ["eval", "VAR t1 : TON; END_VAR"]
+      err `shouldSatisfy` ("TON is a standard function block of IEC 61131-3; MasterTool XE has no function blocks (--dialect tecomat and nexto have them)" `isInfixOf`)
+      (_, _, err') <- stref ["eval", "VAR x : INT; END_VAR x := 1; // set"]
+      err' `shouldSatisfy` ("MasterTool XE has no // comments: write (* ... *)" `isInfixOf`)
+      (_, _, err'') <- stref ["eval", "--dialect", "tecomat", "VAR i : INT; END_VAR WHILE i < 3 DO i := i + 1; CONTINUE; END_WHILE;"]
+      err'' `shouldSatisfy` ("CONTINUE is a CODESYS extension, not part of this dialect: --dialect nexto has it" `isInfixOf`)
   describe "check --portability" $ do
     it "lists, for an IEC program, each construct a policy decides, with file:line:col, the policy and its alternative here, and the rule ids; exit 0" $ do
       (code, out, _) <- stref ["check", "--dialect", "tecomat", "--portability", fixture "portability-tecomat.st"]

@@ -20,6 +20,7 @@ module Cmd.Common
   , traceFlags
   , traceRequest
   , watchTable
+  , inSnippet
   ) where
 
 import Control.Exception (IOException, try)
@@ -220,3 +221,42 @@ traceRequest f
 -- | The names of a watch table: --watch without --trace.
 watchTable :: TraceFlags -> [Text]
 watchTable f = maybe (tfWatch f) (const []) (traceRequest f)
+
+-- | An error found in the program a snippet was wrapped into, placed in the
+-- snippet itself (@stref eval@): the wrapper's lines and columns before the
+-- snippet are taken off, also from a position the message names ("the IF
+-- at line 1, column 35"); the wrapper's END_PROGRAM, where a block the
+-- snippet leaves open is noticed, is the snippet's end.
+inSnippet :: Text -> Text -> VerificationError -> VerificationError
+inSnippet wrapped snippet e = e {vePos = place (vePos e), veMessage = rewrite (veMessage e)}
+  where
+    before = fst (T.breakOn snippet wrapped)
+    beforeLines = T.count "\n" before
+    beforeCol = T.length (snd (T.breakOnEnd "\n" before))
+    snippetLines = T.lines snippet
+    lastLine = max 1 (length snippetLines)
+    endCol = 1 + (if null snippetLines then 0 else T.length (last snippetLines))
+    place (Pos l c)
+      | l' < 1 = Pos 1 1
+      | l' > lastLine = Pos lastLine endCol
+      | l' == 1 = Pos 1 (max 1 (c - beforeCol))
+      | otherwise = Pos l' c
+      where
+        l' = l - beforeLines
+    rewrite = positions . T.replace "instead of 'END_PROGRAM'" "at the end of the snippet" . endReached
+    endReached m = case T.breakOn "'END_PROGRAM' at line" m of
+      (a, rest) | not (T.null rest) -> a <> "the end of the snippet" <> snd (T.breakOn " while looking" rest)
+      _ -> m
+    -- "line L, column C" in a message, as a position of the snippet
+    positions m = case T.breakOn "line " m of
+      (a, rest)
+        | T.null rest -> m
+        | Just (l, afterL) <- number (T.drop 5 rest)
+        , Just afterComma <- T.stripPrefix ", column " afterL
+        , Just (c, afterC) <- number afterComma ->
+            let Pos l' c' = place (Pos l c) in a <> "line " <> tshow l' <> ", column " <> tshow c' <> positions afterC
+        | otherwise -> a <> "line " <> positions (T.drop 5 rest)
+    number t = case T.span isDigit t of
+      (ds, r) | not (T.null ds) -> Just (read (T.unpack ds), r)
+      _ -> Nothing
+    tshow = T.pack . show

@@ -134,8 +134,14 @@ runMasterTool o = case applyPolicies (optPolicies o) of
       mapM_ (\(k, v) -> TIO.putStrLn (k <> " = " <> v)) (obRows ob)
       pure (if obFailed ob then ExitFailure 1 else ExitSuccess)
     isLeft = either (const True) (const False)
+    -- the errors placed in the snippet as it went into the wrapper
     rejected src failure = do
-      TIO.hPutStr stderr (renderRunFailure "<eval>" src failure)
+      let written = if traceRequest (optTrace o) /= Nothing then oneStatementALine snippet else snippet
+          placed = case failure of
+            SyntaxError e -> SyntaxError (inSnippet src written e)
+            Rejected es -> Rejected (map (inSnippet src written) es)
+            other -> other
+      TIO.hPutStr stderr (renderRunFailure "<snippet>" written placed)
       pure (ExitFailure 1)
 
 -- | @eval --compare POLICY --trace@: the traces up to the first item where

@@ -45,7 +45,7 @@ import Stref.IEC.Portability (portability)
 import Stref.Portability (renderWarning, warningJson)
 import Stref.Trace (Item, items, renderJsonLines, renderText, watching)
 import Stref.Verification (renderError)
-import Cmd.Common (rejectionJson)
+import Cmd.Common (inSnippet, rejectionJson)
 
 -- | The preset of a dialect with @--policy K=V@ assignments applied.
 dialectPolicies :: String -> [String] -> Either Text Policies
@@ -120,6 +120,7 @@ data RunIecOptions = RunIecOptions
   -- the @--watch@ names
   , riWatch :: [Text] -- ^ @--watch@ without @--trace@: a table, a row per cycle
   , riScenario :: Maybe [Call] -- ^ @--scenario FILE@: the cycles, instead of @--calls@
+  , riSnippet :: Maybe Text -- ^ @stref eval@: the snippet the source wraps, where errors are shown
   }
 
 -- | @stref run --dialect tecomat FILE@: the programs over N cycles on the
@@ -138,11 +139,13 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
           Nothing -> if riCalls o <= 0 then [] else Scan sets : replicate (riCalls o - 1) (Scan [])
         observer = if null (riWatch o) then Nothing else Just (\prog m -> map (watchValue pol prog m) (riWatch o))
     case runProgramWatched observer (fst <$> riTrace o) pol file src choice cycle [] calls of
-      Left e
+      Left e0
         | riJson o -> BL.putStrLn (A.encode (rejectionJson file [e])) >> pure (ExitFailure 1)
         | otherwise -> do
-            TIO.hPutStr stderr (renderError file src e)
+            TIO.hPutStr stderr (renderError file (fromMaybe src (riSnippet o)) e)
             pure (ExitFailure 1)
+        where
+          e = maybe e0 (\sn -> inSnippet src sn e0) (riSnippet o)
       Right (Left e) -> usage e
       Right (Right (_, (_, row) : _)) | Just bad <- lookup Nothing (zip row (riWatch o)) ->
         usage ("--watch " <> bad <> ": no variable of that name (give a path such as MAIN.x, a global, or a direct address such as %QX0.0)")
@@ -319,8 +322,8 @@ scalarText = \case
 -- the body of a PROGRAM, run for N cycles.
 evalIec :: Policies -> Text -> Int -> Maybe (Bool, [Text]) -> IO ExitCode
 evalIec pol snippet calls traced = do
-  let src = snippetProgram (maybe snippet (const (oneStatementALine snippet)) traced)
-  runIec pol "<snippet>" src (RunIecOptions calls "T#10ms" Nothing [] False traced [] Nothing)
+  let written = maybe snippet (const (oneStatementALine snippet)) traced
+  runIec pol "<snippet>" (snippetProgram written) (RunIecOptions calls "T#10ms" Nothing [] False traced [] Nothing (Just written))
 
 -- | A snippet as the body of PROGRAM MAIN (its line 1 is the program's 2).
 snippetProgram :: Text -> Text

@@ -112,7 +112,7 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
           case sequence scenario of
             Left msg -> usageError "run" msg
             Right calls -> do
-              let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls)
+              let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls) Nothing
               case variants pol of
                 Left msg -> usageError "run" msg
                 Right [] -> runIec pol (optFile o) src ro

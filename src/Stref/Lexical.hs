@@ -125,6 +125,10 @@ sc = do
   case next of
     -- MT-LEX-11: '#' can only follow a base (2#, 8#, 16#); alone it starts nothing
     Just '#' -> failAt off "invalid-char" "the character '#' is not part of the language here: it can only follow the base of a number (2#, 8# or 16#)"
+    -- a comment of the IEC dialects: say so, rather than that '/' is unexpected
+    Just '/' -> do
+      two <- lookAhead (optional (try (string "//")))
+      when (isJust two) $ failAt off "invalid-char" "MasterTool XE has no // comments: write (* ... *) (--dialect tecomat and nexto accept //)"
     Just c
       | not (legalChar c) ->
           failAt off "invalid-char" ("the character " <> describeChar c <> " is not part of the language") -- MT-LEX-15
@@ -227,6 +231,11 @@ unsupportedTypeNames =
     , "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "ANY", "ANY_NUM"
     , "ANY_REAL", "ANY_INT", "ANY_BIT", "ANY_DATE"
     ]
+
+-- | The standard function blocks of the IEC dialects, named in a
+-- MasterTool XE declaration.
+standardFBNames :: Set.Set Text
+standardFBNames = Set.fromList ["TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR", "RS"]
 
 -- | Reserved names of standard functions. They may be called (the checker
 -- then reports that the function is not declared, MT-OP-21) but not declared
@@ -488,7 +497,10 @@ basicTypeName = label "a type (BOOL, BYTE, WORD, DWORD, USINT, INT, DINT or REAL
     Nothing
       | T.toUpper w `Set.member` unsupportedTypeNames -> do
           _ <- rawWord
-          failAt off "unsupported-type" ("the type " <> T.toUpper w <> " is not supported by MasterTool XE; the types are BOOL, BYTE, WORD, DWORD, USINT, INT, DINT and REAL")
+          failAt off "unsupported-type" ("the type " <> T.toUpper w <> " is not supported by MasterTool XE; the types are BOOL, BYTE, WORD, DWORD, USINT, INT, DINT and REAL (--dialect tecomat and nexto have " <> T.toUpper w <> ")")
+      | T.toUpper w `Set.member` standardFBNames -> do
+          _ <- rawWord
+          failAt off "unsupported-type" (T.toUpper w <> " is a standard function block of IEC 61131-3; MasterTool XE has no function blocks (--dialect tecomat and nexto have them)")
       | otherwise -> empty
 
 tshow :: Show x => x -> Text

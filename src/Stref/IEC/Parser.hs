@@ -188,6 +188,23 @@ symbol :: Policies -> Text -> Parser ()
 symbol pol t = lexeme pol (void (string t)) <?> ("'" <> T.unpack t <> "'")
 
 -- | A keyword, in any case (TC-LEX-2), not followed by a word character.
+-- | A statement opened at @off@ that its closing keyword @k@ does not
+-- close, noticed where a block ends (an END_ keyword, ELSE, ELSIF, UNTIL or
+-- the end of the text): the error is at the opener and says where the
+-- parser noticed. Anything else found there is the ordinary "expected"
+-- error of that place.
+notClosed :: Int -> Text -> Text -> Parser a
+notClosed off opener k = do
+  here <- getSourcePos
+  found <- lookAhead (optional (takeWhile1P Nothing isWordChar))
+  atEnd' <- atEnd
+  let word = T.toUpper <$> found
+      endsABlock = atEnd' || maybe False (\w -> "END_" `T.isPrefixOf` w || w `elem` ["ELSE", "ELSIF", "UNTIL"]) word
+      at = "line " <> T.pack (show (unPos (sourceLine here))) <> ", column " <> T.pack (show (unPos (sourceColumn here)))
+  if endsABlock
+    then failAt off "expected-token" ("this " <> opener <> " is not closed: " <> k <> " is missing (the parser reached " <> maybe "the end of the text" (\w -> "'" <> w <> "' at " <> at) found <> " while looking for it)")
+    else empty
+
 kw :: Policies -> Text -> Parser ()
 kw pol w = lexeme pol (try (string' w *> notFollowedBy (satisfy isWordChar))) <?> T.unpack w
 
@@ -592,6 +609,7 @@ typeSpec pol = do
         kw pol "OF"
         TSArray p dims <$> typeSpec pol
     , extensionP pol (kw pol "POINTER" *> kw pol "TO" *> (TSPointer p <$> typeSpec pol))
+    , otherDialect pol "POINTER TO" (kw pol "POINTER" *> kw pol "TO")
     -- NX-TYPE-81, NX-TYPE-82 (open): REFERENCE is a keyword, but the manual
     -- gives references neither a syntax nor a meaning
     , extensionP pol $ do
@@ -730,6 +748,19 @@ extendsClause pol = do
     Nothing -> pure b
 
 -- | Under @extensions = codesys@ only.
+-- | A construct of CODESYS (the nexto dialect) met where the extensions
+-- are off: the error says which dialect has it. It is recognised only in
+-- its full form (@CONTINUE;@), so that the word stays a name otherwise.
+otherDialect :: Policies -> Text -> Parser () -> Parser a
+otherDialect pol what q
+  | codesys pol = empty
+  | otherwise = do
+      off <- getOffset
+      -- consumed before failing, so that no later alternative reads it as a name
+      _ <- lookAhead (try q)
+      q
+      failAt off "expected-token" (what <> " is a CODESYS extension, not part of this dialect: --dialect nexto has it (policy extensions=codesys)")
+
 extensionP :: Policies -> Parser a -> Parser a
 extensionP pol q = if codesys pol then q else empty
 
@@ -865,6 +896,8 @@ statement pol = do
     , SExit p <$ kw pol "EXIT" <* symbol pol ";"
     , SReturn p <$ kw pol "RETURN" <* symbol pol ";"
     , extension (SContinue p <$ kw pol "CONTINUE" <* symbol pol ";")
+    , otherDialect pol "CONTINUE" (kw pol "CONTINUE" *> symbol pol ";")
+    , otherDialect pol "JMP" (kw pol "JMP" *> name pol *> symbol pol ";")
     , extension (SJump p <$> (kw pol "JMP" *> name pol) <* symbol pol ";")
     , extension (try (SLabel p <$> name pol <* symbol pol ":" <* notFollowedBy (char '=')))
     , simple p
@@ -872,25 +905,28 @@ statement pol = do
     <?> "a statement"
   where
     ifStmt p = do
+      off <- getOffset
       kw pol "IF"
       c <- expr pol
       kw pol "THEN"
       b <- statements pol
       elsifs <- many ((,) <$> (elsifKw pol *> expr pol <* kw pol "THEN") <*> statements pol)
       els <- option [] (kw pol "ELSE" *> statements pol)
-      kw pol "END_IF"
+      closing off "IF" "END_IF"
       endSemi
       pure (SIf p ((c, b) : elsifs) els)
     caseStmt p = do
+      off <- getOffset
       kw pol "CASE"
       sel <- expr pol
       kw pol "OF"
       arms <- many ((,) <$> (caseLabels pol <* symbol pol ":") <*> caseStatements pol)
       els <- option [] (kw pol "ELSE" *> statements pol)
-      kw pol "END_CASE"
+      closing off "CASE" "END_CASE"
       endSemi
       pure (SCase p sel arms els)
     forStmt p = do
+      off <- getOffset
       kw pol "FOR"
       v <- name pol
       symbol pol ":="
@@ -900,27 +936,33 @@ statement pol = do
       st <- optional (kw pol "BY" *> expr pol)
       kw pol "DO"
       b <- statements pol
-      kw pol "END_FOR"
+      closing off "FOR" "END_FOR"
       endSemi
       pure (SFor p v s e st b)
     whileStmt p = do
+      off <- getOffset
       kw pol "WHILE"
       c <- expr pol
       kw pol "DO"
       b <- statements pol
-      kw pol "END_WHILE"
+      closing off "WHILE" "END_WHILE"
       endSemi
       pure (SWhile p c b)
     repeatStmt p = do
+      off <- getOffset
       kw pol "REPEAT"
       b <- statements pol
-      kw pol "UNTIL"
+      closing off "REPEAT" "UNTIL"
       c <- expr pol
       _ <- optional (symbol pol ";") -- TC-ERRATA-4: Tab.3.24 writes `UNTIL i < 20;`
       kw pol "END_REPEAT"
       endSemi
       pure (SRepeat p b c)
     extension q = if codesys pol then q else empty
+    -- the keyword that closes a statement; missing where an enclosing
+    -- block ends, the error is at the statement it should close (after
+    -- 'optional': an error of '<|>' would lose to the later one of 'kw')
+    closing off opener k = optional (kw pol k) >>= maybe (notClosed off opener k) pure
     -- NX-STMT-2: CODESYS does not require the ';' after END_IF and the like
     endSemi = if codesys pol then void (optional (symbol pol ";")) else symbol pol ";"
     setOrReset = (OpSet <$ lexeme pol (try (string' "S="))) <|> (OpReset <$ lexeme pol (try (string' "R=")))

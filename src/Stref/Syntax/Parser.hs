@@ -241,7 +241,7 @@ ifStmt = do
   first <- branch
   others <- many (elsif *> branch)
   els <- optional (keyword "ELSE" *> block)
-  keyword "END_IF"
+  closing pos "IF" "END_IF"
   semi
   pure (If pos (first : others) els)
   where
@@ -258,6 +258,24 @@ ifStmt = do
       reservedNow <- isReservedNow k
       if reservedNow then keyword k else empty
 
+-- | The keyword that closes a statement opened at @at@. When it is missing
+-- where a block ends (an END_ keyword, ELSE, ELSIF, UNTIL or the end of the
+-- text), the error stays where the parser noticed it, as MT-VERR-4 has it
+-- ("expected END_IF instead of END_WHILE"), and names the statement left
+-- open; anything else found there is the ordinary "expected" error.
+closing :: Pos -> Text -> Text -> Parser ()
+closing at opener k = optional (keyword k) >>= maybe notClosed pure
+  where
+    notClosed = do
+      off <- getOffset
+      found <- lookAhead (optional (takeWhile1P Nothing isWordChar))
+      done <- atEnd
+      let word = T.toUpper <$> found
+          endsABlock = done || maybe False (\w -> "END_" `T.isPrefixOf` w || w `elem` ["ELSE", "ELSIF", "ELSEIF", "UNTIL"]) word
+      if endsABlock
+        then failAt off "expected-token" ("expected " <> k <> " instead of " <> maybe "the end of the text" (\w -> "'" <> w <> "'") found <> ": the " <> opener <> " at line " <> T.pack (show (posLine at)) <> ", column " <> T.pack (show (posCol at)) <> " is not closed")
+        else empty
+
 isReservedNow :: Text -> Parser Bool
 isReservedNow k = do
   p <- asks envPolicies
@@ -271,7 +289,7 @@ caseStmt = do
   keyword "OF"
   arms <- nested (some arm)
   els <- optional (keyword "ELSE" *> block)
-  keyword "END_CASE"
+  closing pos "CASE" "END_CASE"
   semi
   pure (Case pos sel arms els)
   where
@@ -309,7 +327,7 @@ whileStmt = do
   c <- expr
   keyword "DO"
   body <- block
-  keyword "END_WHILE"
+  closing pos "WHILE" "END_WHILE"
   semi
   pure (While pos c body)
 
@@ -318,7 +336,7 @@ repeatStmt = do
   pos <- getPos
   keyword "REPEAT"
   body <- block
-  keyword "UNTIL"
+  closing pos "REPEAT" "UNTIL"
   c <- expr
   keyword "END_REPEAT" -- MT-STMT-14
   semi
@@ -336,7 +354,7 @@ forStmt = do
   step <- optional (keyword "BY" *> expr)
   keyword "DO"
   body <- block
-  keyword "END_FOR"
+  closing pos "FOR" "END_FOR"
   semi
   pure (For pos v start end step body)
 
