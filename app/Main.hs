@@ -22,6 +22,7 @@ import qualified Cmd.Explore
 import qualified Cmd.Fuzz
 import qualified Cmd.Matrix
 import qualified Cmd.Parse
+import qualified Cmd.Report
 import qualified Cmd.Request
 import qualified Cmd.Run
 
@@ -29,7 +30,7 @@ commands :: Mod CommandFields (IO ExitCode)
 commands =
   mempty <> Cmd.Parse.command <> Cmd.Check.command <> Cmd.Run.command <> Cmd.Eval.command
     <> Cmd.Conformance.command <> Cmd.Request.command <> Cmd.Engine.command <> Cmd.Coverage.command <> Cmd.Explore.command
-    <> Cmd.Fuzz.command <> Cmd.Adapter.command <> Cmd.Matrix.command
+    <> Cmd.Fuzz.command <> Cmd.Adapter.command <> Cmd.Matrix.command <> Cmd.Report.command
 
 main :: IO ()
 main = do
