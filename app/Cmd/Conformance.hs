@@ -53,6 +53,7 @@ data Opts = Opts
   , oVerbose :: Bool
   , oOnlyFailures :: Bool
   , oExplain :: Bool
+  , oPersistent :: Bool
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -86,6 +87,7 @@ opts =
     <*> switch (long "verbose" <> short 'v' <> help "List every case, also passed and filtered-out ones, and for a case an external engine failed the request and its answer")
     <*> switch (long "only-failures" <> help "In the text report, list only the cases that fail the run (fail, engine-error, invalid); the totals are unchanged")
     <*> switch (long "explain" <> help "For one case: print the reference's trace of it (every statement, value and deciding rule, docs/trace.md) before the report, which shows the differences of the engine's answer")
+    <*> switch (long "persistent" <> help "The --engine answers many requests in one process: one JSON request a line on its stdin, one answer a line on its stdout (e.g. 'stref engine --persistent'); restarted after a crash, a hang or a bad answer")
   where
     positive = eitherReader $ \s -> case readMaybe s of
       Just n | n >= 1 -> Right n
@@ -145,6 +147,8 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
         adapter <- maybe (pure (Right Nothing)) (fmap (fmap Just) . engineCommand) (oEngine o)
         either (\why -> usage why >>= exitWith) (const (pure ())) adapter
         let isAdapter = isJust (oEngine o >>= engineByName . T.pack)
+        when (oPersistent o && (null (oEngine o) || isAdapter)) $
+          usage "--persistent is for an --engine command that answers one request a line (the reference and the adapters of real engines run without it)" >>= exitWith
         corpus <- loadCorpusWith (oJobs o) paths
         mapM_ (TIO.hPutStrLn stderr) (corpusErrors corpus)
         if null (corpusEntries corpus)
@@ -166,6 +170,7 @@ run o = case resolvePolicies (maybe "mastertool-xe" id (oPreset o)) (oPolicies o
                     , roTimeout = fromMaybe (maybe 300 (const (if isAdapter then 60 else 10)) (oEngine o)) (oTimeout o)
                     , roKnownFailures = knownSet
                     , roMaxAnswerBytes = oMaxAnswer o
+                    , roPersistent = oPersistent o
                     }
             case unmatchedSelections options corpus of
               [] -> pure ()

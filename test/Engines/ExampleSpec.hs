@@ -24,9 +24,12 @@ engine = "python3 conformance/engines/example/engine.py"
 -- | The ids that passed, the totals and the exit status of a run of the
 -- example engine.
 runExample :: [String] -> IO ([String], Value, ExitCode)
-runExample args = do
+runExample = runExampleWith engine
+
+runExampleWith :: String -> [String] -> IO ([String], Value, ExitCode)
+runExampleWith command args = do
   bin <- strefBinary
-  (code, out, err) <- readProcessWithExitCode bin (["conformance"] ++ args ++ ["--engine", engine, "-j", "2", "--format", "json"]) ""
+  (code, out, err) <- readProcessWithExitCode bin (["conformance"] ++ args ++ ["--engine", command, "-j", "2", "--format", "json"]) ""
   case decode (BL.pack out) of
     Just (Object report)
       | Just (Array cases) <- KM.lookup "cases" report
@@ -55,6 +58,14 @@ spec = describe "the example engine (conformance/engines/example)" $ do
                  , "tecomat/programs-cycles/first-cycle-initialisation"
                  ]
     t `shouldBe` totals 7 47 0
+    code `shouldBe` ExitSuccess
+
+  it "gives the same results in persistent mode (engine.py --persistent, stref conformance --persistent)" $ withPython $ do
+    let paths = ["conformance/tecomat/operators", "conformance/tecomat/programs-cycles", "conformance/nexto/cycles-tasks"]
+    (alone, t, _) <- runExample paths
+    (persistent, t', code) <- runExampleWith (engine ++ " --persistent") (paths ++ ["--persistent"])
+    persistent `shouldBe` alone
+    t' `shouldBe` t
     code `shouldBe` ExitSuccess
 
   -- the same two overflow cases pass under each alternative: the engine

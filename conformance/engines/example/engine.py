@@ -600,19 +600,40 @@ def answer(request):
     return {"verdict": "runtime-error" if error else "ok", "vars": observed, "operands": {}, "error": error}
 
 
-def main():
+def respond(text):
+    """The answer to one request, as one line of JSON."""
     try:
-        request = json.loads(sys.stdin.read())
+        request = json.loads(text)
     except ValueError as e:
         sys.stderr.write("example engine: the request is not JSON: %s\n" % e)
-        return 2
+        return None
     try:
         result = answer(request)
     except Unsupported as e:
         result = {"verdict": "unsupported", "reason": "example engine: " + str(e)}
     except RecursionError:
         result = {"verdict": "unsupported", "reason": "example engine: a program nested too deeply"}
-    sys.stdout.write(json.dumps(result) + "\n")
+    return json.dumps(result)
+
+
+def main():
+    if sys.argv[1:] == ["--persistent"]:
+        # one request a line, one answer a line, until the end of the input
+        # (stref conformance --persistent)
+        while True:
+            line = sys.stdin.readline()
+            if not line:
+                return 0
+            if line.strip():
+                reply = respond(line)
+                if reply is None:
+                    return 2
+                sys.stdout.write(reply + "\n")
+                sys.stdout.flush()
+    reply = respond(sys.stdin.read())
+    if reply is None:
+        return 2
+    sys.stdout.write(reply + "\n")
     return 0
 
 

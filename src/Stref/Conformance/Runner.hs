@@ -6,7 +6,9 @@
 -- its standard output, at most 'roMaxAnswerBytes' bytes, within
 -- 'roTimeout' seconds. Whatever else happens (non-zero exit, a signal, no
 -- answer in time, too much output, invalid JSON) is an @engine-error@ for
--- that case; the whole group is killed and the run goes on.
+-- that case; the whole group is killed and the run goes on. A persistent
+-- engine ('roPersistent') answers many requests in one process, one a line
+-- (Stref.Conformance.Persistent); it is restarted after such a case.
 module Stref.Conformance.Runner
   ( EngineSpec (..)
   , RunOptions (..)
@@ -33,6 +35,7 @@ module Stref.Conformance.Runner
   ) where
 
 import Control.Concurrent (forkIO)
+import Control.Exception (bracket)
 import Control.Concurrent.Async (async, cancel, wait, waitCatch)
 import Control.Exception (SomeAsyncException, SomeException, evaluate, fromException, throwIO, try)
 import Control.Monad (void)
@@ -57,6 +60,7 @@ import Stref.Checked (ModuleKind (..))
 import Stref.Conformance.Case
 import Stref.Conformance.Corpus
 import Stref.Conformance.Parallel (inParallel)
+import Stref.Conformance.Persistent (Pool, askPersistent, cannotStart, closePool, exitedWith, newPool)
 import Stref.Conformance.Protocol
 import Stref.Engine (referenceEngine)
 import Stref.Operands
@@ -85,6 +89,8 @@ data RunOptions = RunOptions
   , roTimeout :: Double -- ^ seconds per case
   , roKnownFailures :: S.Set Text
   , roMaxAnswerBytes :: Int
+  , roPersistent :: Bool -- ^ the external engine answers many requests in one process, one a line
+  , roPool :: Maybe Pool -- ^ its processes, during a run ('withEngines')
   }
 
 defaultRunOptions :: RunOptions
@@ -103,6 +109,8 @@ defaultRunOptions =
     , roTimeout = 10
     , roKnownFailures = S.empty
     , roMaxAnswerBytes = 16 * 1024 * 1024
+    , roPersistent = False
+    , roPool = Nothing
     }
 
 -- | A difference between expectation and answer.
@@ -194,7 +202,13 @@ unmatchedSelections o corpus
 
 -- | Run the corpus's entries (after sharding) and return one result each.
 runCorpus :: RunOptions -> Corpus -> IO [CaseResult]
-runCorpus o corpus = runEntries o (shardEntries o corpus)
+runCorpus o0 corpus = withEngines o0 $ \o -> runEntries o (shardEntries o corpus)
+
+-- | Run with the processes of a persistent engine, ended afterwards.
+withEngines :: RunOptions -> (RunOptions -> IO a) -> IO a
+withEngines o act = case (roEngine o, roPersistent o, roPool o) of
+  (External cmd, True, Nothing) -> bracket (newPool cmd) closePool (\pool -> act o {roPool = Just pool})
+  _ -> act o
 
 -- | How many cases must all show that an external engine cannot be started
 -- before the run stops.
@@ -207,7 +221,10 @@ casesProbed = 3
 -- working, or 'casesProbed' of them (or all, if fewer) show it missing;
 -- the rest run as 'runCorpus' runs them.
 runCorpusUnlessEngineMissing :: RunOptions -> Corpus -> IO (Either Text [CaseResult])
-runCorpusUnlessEngineMissing o corpus = case roEngine o of
+runCorpusUnlessEngineMissing o0 corpus = withEngines o0 (`unlessMissing` corpus)
+
+unlessMissing :: RunOptions -> Corpus -> IO (Either Text [CaseResult])
+unlessMissing o corpus = case roEngine o of
   Reference _ -> Right <$> runCorpus o corpus
   External _ -> probe [] [] (shardEntries o corpus)
   where
@@ -243,12 +260,6 @@ engineCannotStart errors = case errors of
   where
     unstartable e = any (`T.isPrefixOf` e) [exitedWith 127, exitedWith 126, cannotStart]
     missingWords = ["not found", "no such file", "cannot open", "can't open", "cannot find", "permission denied"]
-
-exitedWith :: Int -> Text
-exitedWith n = "the engine exited with status " <> T.pack (show n)
-
-cannotStart :: Text
-cannotStart = "cannot start the engine"
 
 shardEntries :: RunOptions -> Corpus -> [Entry]
 shardEntries o corpus = [e | (k, e) <- zip [0 ..] (corpusEntries corpus), inShard (roShard o) k]
@@ -429,7 +440,9 @@ converse o rq = case roEngine o of
       Right Nothing -> Left ("no answer within " <> secondsText (roTimeout o) <> " (reference engine)")
       Right (Just _) -> Right answer
   External cmd -> do
-    r <- runExternal cmd (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
+    r <- case roPool o of
+      Nothing -> runExternal cmd (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
+      Just pool -> askPersistent pool (roTimeout o) (roMaxAnswerBytes o) (encodeRequest rq)
     let decoded = r >>= \bytes -> case decodeAnswer (BL.fromStrict bytes) of
           Left e -> Left ("the answer is not a valid stref-engine/1 answer: " <> T.pack e <> excerpt bytes)
           Right a -> Right a
