@@ -35,9 +35,8 @@ module Stref.Conformance.Runner
   ) where
 
 import Control.Concurrent (forkIO)
-import Control.Exception (bracket)
 import Control.Concurrent.Async (async, cancel, wait, waitCatch)
-import Control.Exception (SomeAsyncException, SomeException, evaluate, fromException, throwIO, try)
+import Control.Exception (SomeAsyncException, SomeException, bracket, evaluate, fromException, throwIO, try)
 import Control.Monad (void)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Lazy as BL
