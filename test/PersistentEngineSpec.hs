@@ -48,7 +48,7 @@ spec = describe "persistent engines" $ do
   it "one process answers case after case; a crash and a hang are the engine errors of their cases, and a new process answers the next" $ do
     tmp <- getTemporaryDirectory
     bracket (openTempFile tmp "stref-persistent.starts" >>= \(p, h) -> hClose h >> pure p) removeFile $ \starts -> do
-      (code, out, _) <- stref ["conformance", fixtureCorpus, "--engine", engineScript "persistent" ++ " " ++ starts, "--persistent", "--timeout", "2", "--format", "json"] ""
+      (code, out, _) <- stref ["conformance", fixtureCorpus, "--engine", engineScript "persistent" ++ " " ++ starts, "--persistent", "--timeout", "3", "--format", "json"] ""
       code `shouldBe` ExitFailure 1
       [(i, r) | (i, r, _) <- results out]
         `shouldBe` [ ("mastertool-xe/arith/int-add-saturates", "pass")
@@ -62,7 +62,7 @@ spec = describe "persistent engines" $ do
                    ]
       let detail i = head ([d | (i', _, d) <- results out, i' == i] ++ [""])
       detail "mastertool-xe/calls/div-zero" `shouldSatisfy` ("the engine exited with status 3; stderr: crashed on div-zero" `isInfixOf`)
-      detail "mastertool-xe/calls/three-calls" `shouldSatisfy` ("no answer within 2" `isInfixOf`)
+      detail "mastertool-xe/calls/three-calls" `shouldSatisfy` ("no answer within 3" `isInfixOf`)
       -- the first process answered the first four cases, the second the last two
       started <- readFile starts
       length (lines started) `shouldBe` 2

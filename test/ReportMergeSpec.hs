@@ -157,7 +157,10 @@ spec = describe "stref report merge" $ do
         (code2, _, err2) <- stref ["report", "merge", a, b]
         code2 `shouldBe` ExitFailure 2
         err2 `shouldSatisfy` ("different formats" `isInfixOf`)
-    it "a file that does not exist" $ do
+    it "a file that does not exist, and a directory" $ do
       (code, _, err) <- stref ["report", "merge", "test/fixtures/no-such-report.json"]
       code `shouldBe` ExitFailure 2
-      err `shouldSatisfy` ("no-such-report.json" `isInfixOf`)
+      err `shouldSatisfy` ("no such file: test/fixtures/no-such-report.json" `isInfixOf`)
+      (code', _, err') <- stref ["report", "merge", "test/fixtures"]
+      code' `shouldBe` ExitFailure 2
+      err' `shouldSatisfy` ("test/fixtures is a directory" `isInfixOf`)

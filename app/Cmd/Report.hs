@@ -20,6 +20,7 @@ import Options.Applicative hiding (command)
 import qualified Options.Applicative
 import Stref.Conformance.Merge
 import Stref.Conformance.Report (Totals (..), summaryLine)
+import System.Directory (doesDirectoryExist, doesFileExist)
 import System.Exit
 import System.IO (stderr)
 
@@ -56,9 +57,9 @@ usage msg = TIO.hPutStrLn stderr ("stref report merge: " <> msg) >> pure (ExitFa
 
 merge :: MergeOpts -> IO ExitCode
 merge o = do
-  read' <- mapM (\f -> fmap (f,) <$> (try (BL.readFile f) :: IO (Either IOException BL.ByteString))) (moFiles o)
+  read' <- mapM readReport (moFiles o)
   case sequence read' of
-    Left e -> usage (T.pack (show e))
+    Left e -> usage e
     Right inputs -> case nub (map (detectFormat . snd) inputs) of
       [Just JsonReport] -> case mergeJson inputs of
         Left e -> usage e
@@ -73,6 +74,15 @@ merge o = do
             usage ("not a report of stref conformance --format json or junit: " <> T.intercalate ", " [T.pack f | (f, b) <- inputs, detectFormat b == Nothing] <> " (a text report cannot be merged; write the shards' reports with --format json)")
         | otherwise -> usage "the reports are of different formats (JSON and JUnit XML); merge the reports of one format"
   where
+    readReport f = do
+      isDir <- doesDirectoryExist f
+      isFile <- doesFileExist f
+      if isDir
+        then pure (Left (T.pack f <> " is a directory; give the report files"))
+        else
+          if not isFile
+            then pure (Left ("no such file: " <> T.pack f))
+            else either (\(e :: IOException) -> Left (T.pack f <> ": " <> T.pack (show e))) (Right . (f,)) <$> try (BL.readFile f)
     write report = case moOutput o of
       Just file -> BL.writeFile file report >> pure True
       Nothing -> BLC.putStr report >> pure False

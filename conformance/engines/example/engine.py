@@ -607,6 +607,9 @@ def respond(text):
     except ValueError as e:
         sys.stderr.write("example engine: the request is not JSON: %s\n" % e)
         return None
+    if not isinstance(request, dict) or not isinstance(request.get("source"), str):
+        sys.stderr.write("example engine: the request is not a stref-engine/1 request (an object with a source)\n")
+        return None
     try:
         result = answer(request)
     except Unsupported as e:
