@@ -96,7 +96,7 @@ data Machine s = Machine
   -- OUTPUT1..3 (MT-SIG-4), whether a runtime error occurred, at the
   -- indices below
   , mError :: {-# UNPACK #-} !(STRef s RuntimeError) -- ^ the runtime error, once one occurred
-  , mTrace :: {-# UNPACK #-} !(STRef s Tracer)
+  , mTrace :: !(Maybe (STRef s Tracer))
   -- ^ the events of a traced translation (the fast closures never touch it)
   }
 
@@ -130,7 +130,8 @@ newMachine cm table retained mem (o1, o2, o3) = do
   MU.write cs (ixOutput 2) (fromEnum o2)
   MU.write cs (ixOutput 3) (fromEnum o3)
   er <- newSTRef (runtimeError errMalformed 0)
-  tr <- newSTRef (newTracer False)
+  -- a machine of an untraced translation allocates no tracer
+  tr <- if cmTraced cm then Just <$> newSTRef (newTracer False) else pure Nothing
   pure (Machine d fr mr table cells cs er tr)
 
 -- | The machine's state after a call, immutable.
@@ -1496,6 +1497,7 @@ forContinues :: Value -> Value -> Value -> Value -> Bool
 forContinues zero s c en
   | numCompare s zero == LT = numCompare c en /= LT
   | otherwise = numCompare c en /= GT
+{-# INLINE forContinues #-}
 
 -- | What follows the body of a FOR, under @for-at-type-max@ (decision A14,
 -- MT-STMT-21 b): the control variable's next value (an operator's outcome,
@@ -1542,7 +1544,7 @@ numCompare a b = case (valueToInt a, valueToInt b, a, b) of
 
 -- | Tell the machine's tracer.
 traceEvent :: Machine s -> Event -> ST s ()
-traceEvent m ev = modifySTRef' (mTrace m) (emit ev)
+traceEvent m ev = mapM_ (\r -> modifySTRef' r (emit ev)) (mTrace m)
 
 traced :: Run s Value -> Meaning s
 traced = computed True

@@ -243,9 +243,9 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
        in foldl (\t d -> told (Rule (reLine err) d) t) failed limits
     runBody sources = do
       m <- newMachine compiled table retainedData (psMemory st) (True, False, False) -- MT-SIG-4, A5
-      if cmTraced compiled then writeSTRef (mTrace m) tracer else pure ()
+      mapM_ (`writeSTRef` tracer) (mTrace m)
       r <- unExec (prepare sources >> cmBody compiled) env m
-      tracer' <- if cmTraced compiled then readSTRef (mTrace m) else pure tracer
+      tracer' <- maybe (pure tracer) readSTRef (mTrace m)
       let ended = case r of
             Done _ -> tracer'
             Failed err -> failure err tracer'
