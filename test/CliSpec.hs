@@ -215,6 +215,17 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 1
       out `shouldSatisfy` ("overflow=wrap gives" `isInfixOf`)
       length (takeWhile (/= "END_PROGRAM") (dropWhile (/= "PROGRAM MAIN") (lines out))) `shouldSatisfy` (<= 12)
+    it "explore --exclude-feature leaves a part of the language out of the programs, and a name it never uses is a usage error" $ do
+      (code, out, _) <- stref ["explore", "--dialect", "tecomat", "--print", "--count", "5", "--seed", "1", "--exclude-feature", "real", "--exclude-feature", "time", "--exclude-feature", "for"]
+      code `shouldBe` ExitSuccess
+      out `shouldSatisfy` ("the programs use only types BOOL, SINT, INT, DINT, USINT, UINT, BYTE, WORD; statements assignment, IF, CASE, CTU calls;" `isInfixOf`)
+      out `shouldNotSatisfy` (\o -> any (`isInfixOf` o) ["REAL", "TIME", "FOR ", "TON"])
+      (code', _, err) <- stref ["explore", "--dialect", "tecomat", "--print", "--exclude-feature", "timer"]
+      code' `shouldBe` ExitFailure 2
+      err `shouldSatisfy` ("--exclude-feature timer: the generated programs never use it; the features they can do without: bool," `isInfixOf`)
+      (code'', _, err'') <- stref ["explore", "--print", "--exclude-feature", "real"]
+      code'' `shouldBe` ExitFailure 2
+      err'' `shouldSatisfy` ("restrict the IEC dialects' programs" `isInfixOf`)
     describe "the trace (docs/trace.md)" $ do
       it "eval --trace shows each statement with the values read and written, and the overflow rule with the alternative in force (TC-OP-20)" $ do
         (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--trace", "VAR x : SINT := 127; y : SINT; END_VAR y := x + 1;"]

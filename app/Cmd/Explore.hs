@@ -28,7 +28,9 @@ import Stref.Checked (ArithOp (..))
 import Cmd.Common (engineCommand)
 import Cmd.ExploreIec (ExploreIec (..), IecMode (..), exploreIec)
 import Cmd.Iec (dialectPolicies, isIecDialect)
+import Stref.Conformance.Corpus (readListFile)
 import Stref.Conformance.Runner (EngineSpec (..), RunOptions (..), askEngine, defaultRunOptions)
+import Stref.Generate.Iec (fullSupport, keepsAType, knownFeatures, withoutFeatures)
 import Stref.Engine (referenceEngine)
 import Stref.Explore.Run
 import Stref.Generate.Program
@@ -55,6 +57,8 @@ data Options = Options
   , optTimeout :: Double
   , optCalls :: Maybe Int
   , optDialect :: String
+  , optExcluded :: [Text]
+  , optFeaturesFile :: Maybe FilePath
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -80,6 +84,8 @@ options =
     <*> option auto (long "timeout" <> metavar "SECONDS" <> value 10 <> showDefault <> help "Time limit of one engine run")
     <*> optional (option auto (long "calls" <> metavar "N" <> help "Module calls per program (default 1; 2 for --compare lifetime)"))
     <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect of the generated programs: mastertool-xe, or an IEC dialect (tecomat, nexto: IEC programs with FB instances, TIME, bit strings, over 1-4 cycles)")
+    <*> many (strOption (long "exclude-feature" <> metavar "F" <> help "IEC dialects: a corpus feature the engine lacks (a type, if, case, for, timers, conversions, ...); the programs do without it (repeatable)"))
+    <*> optional (strOption (long "features-file" <> metavar "FILE" <> help "IEC dialects: the features the engine lacks, one a line (# comments), the file conformance --features-file reads; names the programs never use are ignored"))
   where
     mode =
       (AgainstEngine <$> strOption (long "engine" <> metavar "CMD" <> help "The engine command (request on stdin, answer on stdout)"))
@@ -102,6 +108,16 @@ run :: Options -> IO ExitCode
 run o = case dialectPolicies (optDialect o) (optPolicies o) of
   Left msg -> usage msg
   Right pol | isIecDialect pol -> do
+    declared <- maybe (pure (Right [])) (readListFile "features") (optFeaturesFile o)
+    lacking <- either (\e -> usage e >>= exitWith) pure declared
+    case [f | f <- optExcluded o, f `notElem` knownFeatures] of
+      [] -> pure ()
+      unknown ->
+        usage ("--exclude-feature " <> T.intercalate ", " unknown <> ": the generated programs never use it; the features they can do without: " <> T.intercalate ", " knownFeatures)
+          >>= exitWith
+    let support = withoutFeatures (optExcluded o ++ lacking) fullSupport
+    when (not (keepsAType support)) $
+      usage "the excluded features leave no type to generate programs with" >>= exitWith
     seed <- maybe (generate (choose (0, 999999))) pure (optSeed o)
     engine <- case optMode o of
       AgainstEngine cmd -> engineCommand cmd
@@ -114,8 +130,11 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
           ComparePresets {} -> Nothing
     case mode of
       Nothing -> usage "--presets compares MasterTool XE presets; for tecomat use --compare POLICY"
-      Just m -> exploreIec pol {pStepBudget = min (pStepBudget pol) explorationBudget} (ExploreIec m (optCount o) seed (optSize o) (optShrinkBudget o) (optTimeout o))
-  Right _ -> runMasterTool o
+      Just m -> exploreIec pol {pStepBudget = min (pStepBudget pol) explorationBudget} (ExploreIec m support (optCount o) seed (optSize o) (optShrinkBudget o) (optTimeout o))
+  Right _
+    | not (null (optExcluded o)) || isJust (optFeaturesFile o) ->
+        usage "--exclude-feature and --features-file restrict the IEC dialects' programs (--dialect tecomat, nexto); the MasterTool XE programs have a fixed shape"
+    | otherwise -> runMasterTool o
 
 runMasterTool :: Options -> IO ExitCode
 runMasterTool o = case foldM (\p kv -> let (k, v) = T.breakOn "=" (T.pack kv) in setPolicy k (T.drop 1 v) p) mastertoolXE (optPolicies o) of

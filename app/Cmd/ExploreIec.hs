@@ -34,6 +34,7 @@ data IecMode = IecCompare Text | IecEngine String | IecPrint
 
 data ExploreIec = ExploreIec
   { eiMode :: IecMode
+  , eiSupport :: Support -- ^ what the programs may use (all, less what the engine lacks)
   , eiCount :: Int
   , eiSeed :: Int
   , eiSize :: Int
@@ -45,8 +46,8 @@ data ExploreIec = ExploreIec
 data Seen = Seen (M.Map Text Scalar) (Maybe Text) | SeenRejected Text | SeenOther Text
   deriving (Eq, Show)
 
-generated :: Int -> Int -> GenProgram
-generated size s = unGen genProgram (mkQCGen s) size
+generated :: Support -> Int -> Int -> GenProgram
+generated su size s = unGen (genProgram su) (mkQCGen s) size
 
 reference :: Policies -> GenProgram -> Seen
 reference pol gp = case runProgram pol "explore.st" (renderProgram gp) ProgramsOfConfiguration 10 [] (replicate (gpCalls gp) (Scan [])) of
@@ -54,14 +55,14 @@ reference pol gp = case runProgram pol "explore.st" (renderProgram gp) ProgramsO
   Right (Left e) -> SeenOther e
   Right (Right r) ->
     Seen
-      (M.fromList [(p, valueScalar v) | p <- observedPaths, Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath (rrProgram r) (rrMachine r) steps]])
+      (M.fromList [(p, valueScalar v) | p <- observedPaths (gpSupport gp), Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath (rrProgram r) (rrMachine r) steps]])
       ((\(_, StopFault _ f) -> faultKind f) <$> rrError r)
 
 -- | The differences between two results: variable, left, right.
 differences :: Policies -> GenProgram -> Seen -> Seen -> [(Text, Text, Text)]
 differences pol gp a b = case (a, b) of
   (Seen va ea, Seen vb eb) ->
-    let types = observedTypes pol (renderProgram gp) Nothing observedPaths
+    let types = observedTypes pol (renderProgram gp) Nothing (observedPaths (gpSupport gp))
         same k x y = maybe (x == y) (\t -> scalarsMatch pol t x y) (M.lookup k types)
      in [(k, shown x, shown y) | (k, x) <- M.toList va, Just y <- [M.lookup k vb], not (same k x y)]
           ++ [("error", maybe "none" id ea, maybe "none" id eb) | ea /= eb]
@@ -81,7 +82,8 @@ differences pol gp a b = case (a, b) of
 exploreIec :: Policies -> ExploreIec -> IO ExitCode
 exploreIec pol o = do
   putStrLn ("seed " <> show (eiSeed o) <> " (replay with --seed " <> show (eiSeed o) <> " --count " <> show (eiCount o) <> " --size " <> show (eiSize o) <> ")")
-  let progs = [(s, generated (eiSize o) s) | s <- take (eiCount o) [eiSeed o ..]]
+  forM_ (supportSummary (eiSupport o)) $ \s -> TIO.putStrLn ("the programs use only " <> s)
+  let progs = [(s, generated (eiSupport o) (eiSize o) s) | s <- take (eiCount o) [eiSeed o ..]]
   case eiMode o of
     IecPrint -> do
       forM_ progs $ \(s, gp) -> do
@@ -107,7 +109,7 @@ exploreIec pol o = do
             Request protocolVersion "explore" "tecomat" (M.fromList (policyAssignments pol)) (renderProgram gp) "P"
               (PlcRequest (Declare M.empty M.empty) "" M.empty Nothing)
               (replicate (gpCalls gp) (CallRequest (True, True, True) M.empty Nothing))
-              (Observe [] observedPaths [] True) Nothing (Just "T#10ms")
+              (Observe [] (observedPaths (gpSupport gp)) [] True) Nothing (Just "T#10ms")
           engineSeen gp = do
             a <- askEngine ropts (request gp)
             pure $ case a of

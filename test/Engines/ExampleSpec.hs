@@ -81,3 +81,29 @@ spec = describe "the example engine (conformance/engines/example)" $ do
           code `shouldBe` ExitSuccess
       )
       ["wrap", "saturate", "trap"]
+
+  -- the engine's features file makes the cases it lacks unsupported without
+  -- a call (the runner's reason names the feature) and loses no pass
+  it "keeps its passes when its features file (lacking-features.txt) declares what it lacks" $ withPython $ do
+    let paths = ["conformance/tecomat/operators", "conformance/tecomat/programs-cycles", "conformance/nexto/cycles-tasks"]
+    (alone, t, _) <- runExample paths
+    (declared, t', code) <- runExample (paths ++ ["--features-file", "conformance/engines/example/lacking-features.txt"])
+    declared `shouldBe` alone
+    t' `shouldBe` t
+    code `shouldBe` ExitSuccess
+
+  -- generated programs use every type and statement of the IEC core: the
+  -- engine declines them all, unless explore leaves out what it lacks
+  describe "under stref explore --dialect tecomat --engine" $ do
+    let explore extra = do
+          bin <- strefBinary
+          readProcessWithExitCode bin (["explore", "--dialect", "tecomat", "--engine", engine, "--count", "15", "--seed", "3"] ++ extra) ""
+    it "declines every generated program when nothing is left out" $ withPython $ do
+      (code, out, _) <- explore []
+      out `shouldContain` "no disagreement in 15 programs (15 rejected or declined by the engine)"
+      code `shouldBe` ExitSuccess
+    it "runs and agrees on every program made of what it implements (--features-file)" $ withPython $ do
+      (code, out, _) <- explore ["--features-file", "conformance/engines/example/lacking-features.txt"]
+      out `shouldContain` "the programs use only types BOOL, INT, DINT; statements assignment, IF; functions none"
+      lines out `shouldContain` ["no disagreement in 15 programs"]
+      code `shouldBe` ExitSuccess

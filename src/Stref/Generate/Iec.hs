@@ -5,11 +5,19 @@
 -- bounds, WHILE with a counter, FB calls), run over a few cycles.
 --
 -- The programs are generated as a small tree and printed as ST, so that
--- shrinking works on statements and expressions, not on text.
+-- shrinking works on statements and expressions, not on text. What they may
+-- use is a 'Support': all of the above by default, less what an engine
+-- lacks, named by the corpus's features ('withoutFeatures').
 module Stref.Generate.Iec
   ( GenProgram (..)
   , GStmt (..)
   , GExpr (..)
+  , Support
+  , fullSupport
+  , withoutFeatures
+  , knownFeatures
+  , supportSummary
+  , keepsAType
   , genProgram
   , shrinkProgram
   , renderProgram
@@ -18,13 +26,14 @@ module Stref.Generate.Iec
   ) where
 
 import Data.List (intercalate)
+import qualified Data.Set as S
 import Data.Text (Text)
 import qualified Data.Text as T
 import Test.QuickCheck
 
 -- | The types the generator uses.
 data GType = GBool | GSint | GInt | GDint | GUsint | GUint | GByte | GWord | GReal | GLreal | GTime
-  deriving (Eq, Show, Enum, Bounded)
+  deriving (Eq, Ord, Show, Enum, Bounded)
 
 typeName :: GType -> String
 typeName = \case
@@ -63,6 +72,117 @@ variables = [(prefix t ++ show i, t) | t <- [minBound .. maxBound], i <- [1, 2 :
       GLreal -> "lr"
       GTime -> "tm"
 
+-- | A part of the language the generator can leave out.
+data Construct
+  = UseType GType
+  | UseIf
+  | UseCase
+  | UseFor
+  | UseTimer -- ^ a TON instance
+  | UseCounter -- ^ a CTU instance
+  | UseConversion -- ^ the explicit conversion functions
+  | UseFunction String -- ^ a standard function
+  | UseOperator String -- ^ an operator that not every engine has (/, MOD)
+  | UseLiteralOperation -- ^ an operation or conversion whose operands are all literals (typed by the dialect's rules)
+  deriving (Eq, Ord, Show)
+
+-- | What the programs may use.
+newtype Support = Support (S.Set Construct)
+  deriving (Eq, Show)
+
+standardFunctions :: [String]
+standardFunctions = ["MAX", "MIN", "LIMIT", "ABS", "SHL", "SHR", "ROL", "ROR"]
+
+fullSupport :: Support
+fullSupport =
+  Support . S.fromList $
+    map UseType [minBound .. maxBound]
+      ++ [UseIf, UseCase, UseFor, UseTimer, UseCounter, UseConversion]
+      ++ map UseFunction standardFunctions
+      ++ map UseOperator ["/", "MOD"]
+      ++ [UseLiteralOperation]
+
+-- | The corpus features (conformance/README.md) that name something the
+-- generator uses, and what leaving each out removes.
+featureConstructs :: [(Text, [Construct])]
+featureConstructs =
+  [ ("bool", [UseType GBool])
+  , ("sint", [UseType GSint])
+  , ("int", [UseType GInt])
+  , ("dint", [UseType GDint])
+  , ("usint", [UseType GUsint])
+  , ("uint", [UseType GUint])
+  , ("byte", [UseType GByte])
+  , ("word", [UseType GWord])
+  , ("bit-strings", [UseType GByte, UseType GWord])
+  , ("real", [UseType GReal, UseType GLreal]) -- the corpus marks floating point as real
+  , ("lreal", [UseType GLreal])
+  , ("time", [UseType GTime])
+  , ("if", [UseIf])
+  , ("case", [UseCase])
+  , ("for", [UseFor])
+  , ("loops", [UseFor])
+  , ("timers", [UseTimer])
+  , ("counters", [UseCounter])
+  , ("standard-fb", [UseTimer, UseCounter])
+  , ("function-blocks", [UseTimer, UseCounter])
+  , ("conversions", [UseConversion])
+  , ("functions", map UseFunction standardFunctions)
+  , ("selection", map UseFunction ["MAX", "MIN", "LIMIT"])
+  , ("max", [UseFunction "MAX"])
+  , ("min", [UseFunction "MIN"])
+  , ("limit", [UseFunction "LIMIT"])
+  , ("numeric-functions", [UseFunction "ABS"])
+  , ("abs", [UseFunction "ABS"])
+  , ("shifts", map UseFunction ["SHL", "SHR", "ROL", "ROR"])
+  , ("shift", map UseFunction ["SHL", "SHR"])
+  , ("rotate", map UseFunction ["ROL", "ROR"])
+  , ("division", [UseOperator "/", UseOperator "MOD"])
+  , ("mod", [UseOperator "MOD"])
+  , ("literal-expressions", [UseLiteralOperation])
+  ]
+
+knownFeatures :: [Text]
+knownFeatures = map fst featureConstructs
+
+-- | The support left when an engine lacks these features (names the
+-- generator never uses are ignored), with what depends on a removed part
+-- removed too: IF needs BOOL, CASE and FOR an INT, a timer BOOL and TIME, a
+-- counter BOOL and INT.
+withoutFeatures :: [Text] -> Support -> Support
+withoutFeatures fs (Support s) = Support (S.filter usable kept)
+  where
+    kept = s `S.difference` S.fromList (concat [cs | (f, cs) <- featureConstructs, f `elem` fs])
+    has t = UseType t `S.member` kept
+    usable = \case
+      UseIf -> has GBool
+      UseCase -> has GInt
+      UseFor -> has GInt
+      UseTimer -> has GBool && has GTime
+      UseCounter -> has GBool && has GInt
+      _ -> True
+
+uses :: Support -> Construct -> Bool
+uses (Support s) c = c `S.member` s
+
+-- | Whether a program can be generated at all.
+keepsAType :: Support -> Bool
+keepsAType = not . null . typesOf
+
+typesOf :: Support -> [GType]
+typesOf su = filter (uses su . UseType) [minBound .. maxBound]
+
+-- | The types and statements left, as a line for the user: empty when
+-- nothing is left out.
+supportSummary :: Support -> Maybe Text
+supportSummary su
+  | su == fullSupport = Nothing
+  | otherwise =
+      Just . T.pack $
+        "types " ++ intercalate ", " (map typeName (typesOf su))
+          ++ "; statements " ++ intercalate ", " (["assignment"] ++ [n | (c, n) <- [(UseIf, "IF"), (UseCase, "CASE"), (UseFor, "FOR"), (UseTimer, "TON calls"), (UseCounter, "CTU calls")], uses su c])
+          ++ "; functions " ++ (case [f | f <- standardFunctions, uses su (UseFunction f)] ++ ["conversions" | uses su UseConversion] of [] -> "none"; fs -> intercalate ", " fs)
+
 varsOf :: GType -> [String]
 varsOf t = [n | (n, t') <- variables, t' == t]
 
@@ -87,82 +207,105 @@ data GStmt
   deriving (Eq, Show)
 
 data GenProgram = GenProgram
-  { gpBody :: [GStmt]
+  { gpSupport :: Support -- ^ what it may use: its declarations and observed variables follow
+  , gpBody :: [GStmt]
   , gpCalls :: Int
   }
   deriving (Eq, Show)
 
-genProgram :: Gen GenProgram
-genProgram = do
-  n <- sized (\s -> choose (1, max 1 (min 12 (s `div` 3 + 1))))
-  body <- vectorOf n (genStmt 2)
+-- | A program of the given support; the support must keep at least one type.
+genProgram :: Support -> Gen GenProgram
+genProgram su = do
+  n <- sized (\sz -> choose (1, max 1 (min 12 (sz `div` 3 + 1))))
+  body <- vectorOf n (genStmt su 2)
   calls <- choose (1, 4)
-  pure (GenProgram body calls)
+  pure (GenProgram su body calls)
 
-genStmt :: Int -> Gen GStmt
-genStmt depth =
-  frequency $
+genStmt :: Support -> Int -> Gen GStmt
+genStmt su depth =
+  frequency . filter ((> 0) . fst) $
     [ (6, genAssign)
-    , (1, GTimer <$> genExpr 2 GBool <*> genExpr 1 GTime)
-    , (1, GCounter <$> genExpr 2 GBool)
+    , (1 `when` uses su UseTimer, GTimer <$> genExpr su 2 GBool <*> genExpr su 1 GTime)
+    , (1 `when` uses su UseCounter, GCounter <$> genExpr su 2 GBool)
     ]
       ++ if depth <= 0
         then []
         else
-          [ (2, GIf <$> genExpr 2 GBool <*> block <*> block)
-          , (1, GCase <$> elements (varsOf GInt) <*> caseArms <*> block)
-          , (1, do a <- choose (-3, 3); b <- choose (-3, 6); c <- elements [1, 1, 2, -1]; GFor a b c <$> block)
+          [ (2 `when` uses su UseIf, GIf <$> genExpr su 2 GBool <*> block <*> block)
+          , (1 `when` uses su UseCase, GCase <$> elements (varsOf GInt) <*> caseArms <*> block)
+          , (1 `when` uses su UseFor, do a <- choose (-3, 3); b <- choose (-3, 6); c <- elements [1, 1, 2, -1]; GFor a b c <$> block)
           ]
   where
     block = do
       k <- choose (0, 3)
-      vectorOf k (genStmt (depth - 1))
+      vectorOf k (genStmt su (depth - 1))
     caseArms = do
       k <- choose (1, 3)
       labels <- vectorOf k (choose (-2, 5))
       mapM (\l -> (l,) <$> block) labels
     genAssign = do
-      (v, t) <- elements variables
-      GAssign v <$> genExpr 3 t
+      (v, t) <- elements [(v, t) | (v, t) <- variables, uses su (UseType t)]
+      GAssign v <$> genExpr su 3 t
 
--- | A typed expression of the given type.
-genExpr :: Int -> GType -> Gen GExpr
-genExpr depth t = if depth <= 0 then leaf else frequency (leafF ++ nodes)
+-- | A weight, or 0 (left out) when the construct is not supported.
+when :: Int -> Bool -> Int
+when w ok = if ok then w else 0
+
+-- | A typed expression of the given (supported) type.
+genExpr :: Support -> Int -> GType -> Gen GExpr
+genExpr su depth t = if depth <= 0 then leaf else typedByAVariable <$> frequency (filter ((> 0) . fst) (leafF ++ nodes))
   where
     leaf = oneof [genLit t, GVar t <$> elements (varsOf t)]
     leafF = [(3, leaf)]
-    sub = genExpr (depth - 1)
+    sub = genExpr su (depth - 1)
+    typed = filter (uses su . UseType)
+    function f = uses su (UseFunction f)
+    operators = filter (\o -> uses su (UseOperator o) || o `notElem` ["/", "MOD"])
     nodes = case t of
       GBool ->
         [ (2, GBin GBool <$> elements ["AND", "OR", "XOR"] <*> sub GBool <*> sub GBool)
         , (1, GUn GBool "NOT" <$> sub GBool)
           -- a variable on the left, so that the comparison has a type even
           -- when the right operand is made of untyped literals only
-        , (3, do ct <- elements [GSint, GInt, GDint, GUsint, GReal, GLreal, GTime, GByte]; v <- elements (varsOf ct); GBin GBool <$> elements ["<", ">", "<=", ">=", "=", "<>"] <*> pure (GVar ct v) <*> sub ct)
-        , (1, pure GTimerQ)
+        , (3 `when` not (null compared), do ct <- elements compared; v <- elements (varsOf ct); GBin GBool <$> elements ["<", ">", "<=", ">=", "=", "<>"] <*> pure (GVar ct v) <*> sub ct)
+        , (1 `when` uses su UseTimer, pure GTimerQ)
         ]
       GTime ->
         [ (2, GBin GTime <$> elements ["+", "-"] <*> sub GTime <*> sub GTime)
-        , (1, GBin GTime "*" <$> sub GTime <*> genLit GInt)
-        , (1, GConv GTime GDint <$> sub GDint)
+        , (1 `when` uses su (UseType GInt), GBin GTime "*" <$> sub GTime <*> genLit GInt)
+        , (1 `when` (uses su UseConversion && uses su (UseType GDint)), GConv GTime GDint <$> sub GDint)
         ]
       _
         | isBits t ->
             [ (2, GBin t <$> elements ["AND", "OR", "XOR"] <*> sub t <*> sub t)
             , (1, GUn t "NOT" <$> sub t)
-            , (1, do f <- elements ["SHL", "SHR", "ROL", "ROR"]; n <- choose (0, 17 :: Int); x <- sub t; pure (GCall t f [x, GLit GInt (show n)]))
-            , (1, GConv t GUsint <$> sub GUsint) -- t is BYTE or WORD, never USINT
+            , (1 `when` not (null shifts), do f <- elements shifts; n <- choose (0, 17 :: Int); x <- sub t; pure (GCall t f [x, GLit GInt (show n)]))
+            , (1 `when` (uses su UseConversion && uses su (UseType GUsint)), GConv t GUsint <$> sub GUsint) -- t is BYTE or WORD, never USINT
             ]
         | otherwise ->
-            [ (4, GBin t <$> elements (["+", "-", "*", "/"] ++ ["MOD" | isIntegral t]) <*> sub t <*> sub t)
-            , (1, GUn t "-" <$> sub t) `onlyIf` (t `notElem` [GUsint, GUint])
-            , (1, do f <- elements ["MAX", "MIN"]; GCall t f <$> vectorOf 2 (sub t))
-            , (1, GCall t "LIMIT" <$> vectorOf 3 (sub t))
-            , (1, GCall t "ABS" . (: []) <$> sub t)
-            , (2, do from <- elements (filter (/= t) ([GSint, GInt, GDint, GUsint, GUint, GReal, GLreal] ++ [GByte | isIntegral t])); GConv t from <$> sub from) `onlyIf` True
-            , (1, pure GCounterCV) `onlyIf` (t == GInt)
+            [ (4, GBin t <$> elements (operators (["+", "-", "*", "/"] ++ ["MOD" | isIntegral t])) <*> sub t <*> sub t)
+            , (1 `when` (t `notElem` [GUsint, GUint]), GUn t "-" <$> sub t)
+            , (1 `when` not (null selections), do f <- elements selections; GCall t f <$> vectorOf 2 (sub t))
+            , (1 `when` function "LIMIT", GCall t "LIMIT" <$> vectorOf 3 (sub t))
+            , (1 `when` function "ABS", GCall t "ABS" . (: []) <$> sub t)
+            , (2 `when` (uses su UseConversion && not (null sources)), do from <- elements sources; GConv t from <$> sub from)
+            , (1 `when` (t == GInt && uses su UseCounter), pure GCounterCV)
             ]
-    onlyIf x c = if c then x else (0, leaf)
+    -- without literal operations, an operation of literals only gets a
+    -- variable of its type as first operand
+    typedByAVariable e
+      | uses su UseLiteralOperation = e
+      | otherwise = case e of
+          GBin rt o a b | literalsOnly a && literalsOnly b -> GBin rt o (variableLike a) b
+          GUn rt o a | literalsOnly a -> GUn rt o (variableLike a)
+          GConv to from a | literalsOnly a -> GConv to from (variableLike a)
+          GCall rt f (a : as) | all literalsOnly (a : as) -> GCall rt f (variableLike a : as)
+          _ -> e
+    variableLike a = GVar (typeOf a) (head (varsOf (typeOf a)))
+    compared = typed [GSint, GInt, GDint, GUsint, GReal, GLreal, GTime, GByte]
+    shifts = filter function ["SHL", "SHR", "ROL", "ROR"]
+    selections = filter function ["MAX", "MIN"]
+    sources = typed (filter (/= t) ([GSint, GInt, GDint, GUsint, GUint, GReal, GLreal] ++ [GByte | isIntegral t]))
 
 genLit :: GType -> Gen GExpr
 genLit t = GLit t <$> case t of
@@ -180,9 +323,9 @@ genLit t = GLit t <$> case t of
 
 -- | Smaller programs: fewer statements, simpler statements and expressions.
 shrinkProgram :: GenProgram -> [GenProgram]
-shrinkProgram (GenProgram body calls) =
-  [GenProgram b calls | b <- shrinkList shrinkStmt body, not (null b)]
-    ++ [GenProgram body c | c <- [1 .. calls - 1]]
+shrinkProgram (GenProgram su body calls) =
+  [GenProgram su b calls | b <- shrinkList shrinkStmt body, not (null b)]
+    ++ [GenProgram su body c | c <- [1 .. calls - 1]]
 
 shrinkStmt :: GStmt -> [GStmt]
 shrinkStmt = \case
@@ -201,6 +344,19 @@ shrinkExpr = \case
   GCall t _ as -> [a | a <- as, typeOf a == t]
   GVar t _ -> [GLit t (zeroOf t)]
   _ -> []
+
+-- | An expression without a variable: its type is decided by the dialect's
+-- rules for literals.
+literalsOnly :: GExpr -> Bool
+literalsOnly = \case
+  GLit {} -> True
+  GVar {} -> False
+  GBin _ _ a b -> literalsOnly a && literalsOnly b
+  GUn _ _ a -> literalsOnly a
+  GConv _ _ a -> literalsOnly a
+  GCall _ _ as -> all literalsOnly as
+  GTimerQ -> False
+  GCounterCV -> False
 
 typeOf :: GExpr -> GType
 typeOf = \case
@@ -253,10 +409,10 @@ usedNames = concatMap stmtNames
       GLit {} -> []
 
 renderWith :: (String -> Bool) -> GenProgram -> Text
-renderWith declared (GenProgram body _) =
+renderWith declared (GenProgram su body _) =
   T.pack . unlines $
     ["PROGRAM MAIN", "VAR"]
-      ++ ["  " ++ n ++ " : " ++ ty ++ ";" | (n, ty) <- [(n, typeName t) | (n, t) <- variables] ++ [("kk", "INT"), ("t", "TON"), ("c", "CTU")], declared n]
+      ++ ["  " ++ n ++ " : " ++ ty ++ ";" | (n, ty) <- declarations su, declared n]
       ++ ["END_VAR"]
       ++ concatMap (stmt 0) body
       ++ ["END_PROGRAM"]
@@ -284,5 +440,18 @@ renderWith declared (GenProgram body _) =
       GCounterCV -> "c.CV"
 
 -- | Every variable the program has, as corpus paths.
-observedPaths :: [Text]
-observedPaths = [T.pack ("MAIN." ++ n) | (n, _) <- variables] ++ ["MAIN.kk", "MAIN.t.Q", "MAIN.t.ET", "MAIN.c.CV"]
+observedPaths :: Support -> [Text]
+observedPaths su = concat [paths n ty | (n, ty) <- declarations su]
+  where
+    paths n = \case
+      "TON" -> ["MAIN." <> T.pack n <> ".Q", "MAIN." <> T.pack n <> ".ET"]
+      "CTU" -> ["MAIN." <> T.pack n <> ".CV"]
+      _ -> ["MAIN." <> T.pack n]
+
+-- | The variables a program of this support declares, with their types.
+declarations :: Support -> [(String, String)]
+declarations su =
+  [(n, typeName t) | (n, t) <- variables, uses su (UseType t)]
+    ++ [("kk", "INT") | uses su UseFor]
+    ++ [("t", "TON") | uses su UseTimer]
+    ++ [("c", "CTU") | uses su UseCounter]
