@@ -280,6 +280,14 @@ spec = describe "the stref command line" $ do
       err `shouldSatisfy` ("tecomat" `isInfixOf`)
 
   describe "run" $ do
+    it "says, for a CHF parameter error, the counts expected and given (2009, 2010) or which parameter (MT-PARAM-3..7)" $ do
+      (code, out, _) <- stref ["run", "--module", "F", fixture "chf-scale.st", "--in", "%M0010", "--out", "%M0020"]
+      code `shouldBe` ExitFailure 1 -- a call ended in a runtime error
+      out `shouldSatisfy` ("runtime error 2009 (incorrect number of input parameters) at line 0, complements 0 0 0: SCALE has 2 input parameters (RAW, GAIN), the call gives 1" `isInfixOf`)
+      (_, out', _) <- stref ["run", "--module", "F", fixture "chf-scale.st", "--in", "%M0010", "--in", "%KM+3", "--out", "%M0020", "--out", "%M0021"]
+      out' `shouldSatisfy` ("SCALE has 1 output parameter (OUT), the call gives 2" `isInfixOf`)
+      (_, out'', _) <- stref ["run", "--module", "F", fixture "chf-scale.st", "--in", "%M0010", "--in", "%KF+3.0", "--out", "%M0020"]
+      out'' `shouldSatisfy` ("runtime error 2003 (incorrect input parameter) at line 0, complements 2 0 0: input parameter 2 is GAIN" `isInfixOf`)
     it "saturates INT addition and reports it as JSON" $ do
       (code, out, _) <- stref ["run", fixture "sat.st", "--set", "%M0010=15000", "--set", "%M0011=25000", "--format", "json"]
       code `shouldBe` ExitSuccess

@@ -205,8 +205,8 @@ runMasterTool o = do
                     (outcome, events) <- runModuleTraced everyIteration runSetup cm calls
                     -- (the states between the calls are not kept: only a
                     -- watch table reads them, and a trace replaces it)
-                    pure (roInitial outcome, foldr (\r rest -> CallStep r (roFinal outcome) rest) (CallsDone (roFinal outcome)) (roResults outcome), events)
-                  Nothing -> (\(initial, stream) -> (initial, stream, [])) <$> streamModule runSetup cm calls
+                    pure (roInitial outcome, foldr (\r rest -> CallStep r (roFinal outcome) rest) (CallsDone (roFinal outcome)) (roResults outcome), events, cmProgram cm)
+                  Nothing -> (\(initial, stream) -> (initial, stream, [], cmProgram cm)) <$> streamModule runSetup cm calls
           case started of
             Left (BadSetting msg) -> usageError "run" msg
             Left (Rejected errs) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) errs)) >> pure (ExitFailure 1)
@@ -214,7 +214,7 @@ runMasterTool o = do
             Left failure -> do
               TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
               pure (ExitFailure 1)
-            Right (initial, stream, events) -> do
+            Right (initial, stream, events, program) -> do
               -- the trace first (text, or one JSON object per event), then
               -- the usual report
               forM_ (traceRequest (optTrace o)) $ \(_, watched) ->
@@ -226,7 +226,7 @@ runMasterTool o = do
                   render
                     | not (null watched) = printCallWatch fmtJson watched
                     | fmtJson = \k r _ -> printCallJson k r
-                    | otherwise = \k r _ -> printCallText k r
+                    | otherwise = \k r _ -> printCallText (parameterErrorDetail program (length chfIn) (length chfOut)) k r
               if fmtJson then BL.putStr "{\"calls\":[" else pure ()
               unless (null watched || fmtJson) $ TIO.putStrLn (watchRow (["call"] ++ watched ++ ["INTERNAL_OVERFLOW", "error"]))
               ended <- consumeCalls render stream
@@ -320,10 +320,10 @@ watchRow = T.stripEnd . T.concat . map (\c -> T.justifyLeft (max 12 (T.length c 
 
 -- | One call's line. The common lines are built as bytes (ASCII); an error's
 -- message goes through the handle's text encoding, as the rest of the report.
-printCallText :: Int -> CallResult -> CallOutput
-printCallText k r
+printCallText :: (RuntimeError -> Maybe Text) -> Int -> CallResult -> CallOutput
+printCallText detail k r
   | not (crExecuted r) = Bytes (prefix <> ascii "not executed (INPUT1 is FALSE)\n")
-  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e) >> putBytes (steps <> ascii "\n"))
+  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e <> maybe "" (": " <>) (detail e)) >> putBytes (steps <> ascii "\n"))
   | otherwise = Bytes (prefix <> ascii "ok" <> steps <> ascii "\n")
   where
     prefix = ascii "call " <> BB.intDec k <> ascii ": "

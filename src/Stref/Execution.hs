@@ -43,6 +43,7 @@ module Stref.Execution
   , runCompiledTraced
   , checkMappedOperands
   , checkChfParameters
+  , parameterErrorDetail
   , ParamSource (..)
   , diagnosticBand
   , writeDiagnostics
@@ -449,6 +450,28 @@ checkChfParameters line cfg prog ins outs
     isArray v = case varType v of
       Array {} -> True
       Basic _ -> False
+
+-- | For the user, what a CHF parameter error of 'checkChfParameters' is
+-- about: the counts behind 2009 and 2010, the parameter that the first
+-- complement of 2003 to 2006, 2011 and 2012 numbers. (The controller shows
+-- only the code and the complements.)
+parameterErrorDetail :: CProgram -> Int -> Int -> RuntimeError -> Maybe Text
+parameterErrorDetail prog givenIns givenOuts (RuntimeError code _ (n, _, _))
+  | code == errInputCount = Just (counted "input" inParams <> ", the call gives " <> tshow givenIns)
+  | code == errOutputCount = Just (counted "output" (cpOutputs prog) <> ", the call gives " <> tshow givenOuts)
+  | code `elem` [errInputParameter, errInputOperandNotDeclared, errConstantValue, errInputArrayTooShort] = numbered "input" inParams
+  | code `elem` [errOutputParameter, errOutputOperandNotDeclared, errOutputArrayTooShort] = numbered "output" (cpOutputs prog)
+  | otherwise = Nothing
+  where
+    inParams = cpInputs prog ++ cpInOuts prog
+    counted what vs =
+      cpName prog <> " has " <> tshow (length vs) <> " " <> what <> " parameter" <> (if length vs == 1 then "" else "s")
+        <> (if null vs then "" else " (" <> T.intercalate ", " (map varName vs) <> ")")
+    numbered what vs = case drop (n - 1) vs of
+      v : _ | n >= 1 -> Just (what <> " parameter " <> tshow n <> " is " <> varName v)
+      _ -> Nothing
+    tshow :: Int -> Text
+    tshow = T.pack . show
 
 -- | An integer constant (%KM, %KI) goes to any integer or bit-string
 -- parameter, a real constant (%KF) to a REAL one; whether the value fits the
