@@ -14,7 +14,7 @@ import qualified Data.Text as T
 import qualified Data.Text.IO as TIO
 import Options.Applicative hiding (command)
 import qualified Options.Applicative as O
-import Cmd.Common (notAFile, readSource)
+import Cmd.Common (notAFile, portabilitySummary, readSource)
 import Cmd.Iec (checkIec, dialectPolicies, isIecDialect)
 import Stref.Source (decodeSource, renderEncodingError)
 import Stref.Check (checkModule)
@@ -105,7 +105,7 @@ runMasterTool opts =
                 _ -> do
                   putStrLn (file <> ": valid " <> kindText <> " module")
                   mapM_ (TIO.putStrLn . renderWarning policies file) warnings
-                  when (optPortability opts) $ putStrLn (show (length warnings) <> " portability warning" <> (if length warnings == 1 then "" else "s") <> " (docs/policies.md explains each policy)")
+                  when (optPortability opts) $ putStrLn (portabilitySummary (length warnings))
               pure ExitSuccess
             Left errs -> do
               case optFormat opts of

@@ -21,6 +21,8 @@ module Cmd.Common
   , traceRequest
   , watchTable
   , inSnippet
+  , sourceLine
+  , portabilitySummary
   ) where
 
 import Control.Exception (IOException, try)
@@ -260,3 +262,13 @@ inSnippet wrapped snippet e = e {vePos = place (vePos e), veMessage = rewrite (v
       (ds, r) | not (T.null ds) -> Just (read (T.unpack ds), r)
       _ -> Nothing
     tshow = T.pack . show
+
+-- | The text of a source line (1-based), for a trace; empty outside the file.
+sourceLine :: Text -> Int -> Text
+sourceLine src l = case drop (l - 1) (T.lines src) of
+  x : _ | l >= 1 -> x
+  _ -> ""
+
+-- | The last line of @check --portability@.
+portabilitySummary :: Int -> String
+portabilitySummary n = show n <> " portability warning" <> (if n == 1 then "" else "s") <> " (docs/policies.md explains each policy)"

@@ -22,7 +22,7 @@ import Stref.Conformance.Case (Case (..), effectiveExpect)
 import Stref.Conformance.Corpus
 import Stref.Conformance.Report
 import Stref.Conformance.Runner
-import Cmd.Common (engineCommand)
+import Cmd.Common (engineCommand, sourceLine)
 import Stref.Engines.Run (engineByName)
 import Stref.Engine (referenceTrace)
 import Stref.Policy (policyAssignments)
@@ -118,11 +118,7 @@ explain options corpus = case [c | Loaded c <- corpusEntries corpus, selected c]
       Left e -> usage e >>= exitWith
       Right (ran, _, events) -> do
         TIO.putStrLn ("the reference's trace of " <> caseId c <> " (" <> T.pack (caseFile c) <> "):")
-        let source = caseSource c
-            line l = case drop (l - 1) (T.lines source) of
-              x : _ | l >= 1 -> x
-              _ -> ""
-        mapM_ TIO.putStrLn (renderText ran line (items events))
+        mapM_ TIO.putStrLn (renderText ran (sourceLine (caseSource c)) (items events))
         TIO.putStrLn ""
   cs -> usage ("--explain explains one case; " <> T.pack (show (length cs)) <> " are selected (give one case file, or --filter ID)") >>= exitWith
   where

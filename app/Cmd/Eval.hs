@@ -14,7 +14,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr)
 import Cmd.Common
-import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, evalIecTrace, isIecDialect, oneStatementALine, sourceLine)
+import Cmd.Iec (dialectPolicies, evalIec, evalIecRows, evalIecTrace, isIecDialect, oneStatementALine)
 import Stref.Diagnostics (RuntimeError (..))
 import Stref.Execution
 import Stref.Policy

@@ -10,7 +10,6 @@ module Cmd.Iec
   , evalIec
   , evalIecRows
   , evalIecTrace
-  , sourceLine
   , oneStatementALine
   , RunIecOptions (..)
   , compareIec
@@ -45,7 +44,7 @@ import Stref.IEC.Portability (portability)
 import Stref.Portability (renderWarning, warningJson)
 import Stref.Trace (Item, items, renderJsonLines, renderText, watching)
 import Stref.Verification (renderError)
-import Cmd.Common (inSnippet, rejectionJson)
+import Cmd.Common (inSnippet, portabilitySummary, rejectionJson, sourceLine)
 
 -- | The preset of a dialect with @--policy K=V@ assignments applied.
 dialectPolicies :: String -> [String] -> Either Text Policies
@@ -100,7 +99,7 @@ checkIec pol file src portable json = case parseUnit pol file src >>= checkUnit 
       else do
         putStrLn (file <> ": valid (" <> show (length user) <> " POUs: " <> T.unpack (T.intercalate ", " [kindText (pdKind d) <> " " <> pdName d | d <- sortOn (posOf . pdEndPos) user]) <> ")")
         mapM_ (TIO.putStrLn . renderWarning pol file) warnings
-        when portable $ putStrLn (show (length warnings) <> " portability warning" <> (if length warnings == 1 then "" else "s") <> " (docs/policies.md explains each policy)")
+        when portable $ putStrLn (portabilitySummary (length warnings))
     pure ExitSuccess
   where
     isUser d = case pdBody d of
@@ -268,12 +267,6 @@ table header rows = map line (header : rows)
     widths = [maximum (map T.length col) | col <- transposed (header : rows)]
     transposed xs = if any null xs then [] else map head xs : transposed (map tail xs)
     line cells = T.stripEnd (T.intercalate "  " [T.justifyLeft w ' ' c | (w, c) <- zip widths cells])
-
--- | The text of a source line, for the trace.
-sourceLine :: Text -> Int -> Text
-sourceLine src l = case drop (l - 1) (T.lines src) of
-  x : _ | l >= 1 -> x
-  _ -> ""
 
 toScalar :: Text -> Scalar
 toScalar v = case reads (T.unpack v) :: [(Integer, String)] of

@@ -23,7 +23,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr, stdout)
 import Cmd.Common
-import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec, sourceLine)
+import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec)
 import Stref.Conformance.Case (Case (..), CallSetup (CallSetup), ExpValue (..), IecCall (..), IecSetup (..), iecScalar, parseScenario)
 import Stref.IEC.Engine (Call (..))
 import Stref.IEC.Eval (resetEvents)
