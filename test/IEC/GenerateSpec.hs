@@ -8,6 +8,8 @@ import Data.List (isInfixOf)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
+import Stref.Conformance.Case (Case (..))
+import Stref.Conformance.Corpus (Corpus (..), Entry (..), loadCorpus)
 import Stref.Conformance.Protocol (Scalar)
 import Stref.IEC.Check (ProgramChoice (..))
 import Stref.IEC.Engine
@@ -96,6 +98,10 @@ spec = describe "IEC.Generate: generated tecomat programs" $ do
               .&&. case outcome tecomat gp of
                 Ran vars _ -> M.keys vars === ["MAIN.b1", "MAIN.b2", "MAIN.di1", "MAIN.di2", "MAIN.i1", "MAIN.i2"]
                 o -> counterexample (show o) False
+  it "know only feature names that corpus cases carry (the vocabulary of --features-file)" $ do
+    corpus <- loadCorpus ["conformance"]
+    let tags = [f | Loaded c <- corpusEntries corpus, f <- caseFeatures c]
+    [f | f <- knownFeatures, f `notElem` tags] `shouldBe` []
   it "use every part of the language when nothing is left out" $
     let srcs = concat [T.unpack (renderProgram (generatedWith s)) | s <- [1 .. 60 :: Int]]
         generatedWith s = unGen (genProgram fullSupport) (mkQCGen s) 30

@@ -1,6 +1,6 @@
 -- | One conformance case: a complete ST compilation unit whose first comment,
 -- opened by @(*---@ and closed by @---*)@, holds its metadata as YAML
--- (shared/spec/corpus-format.md §1; conformance/README.md).
+-- (conformance/README.md, "A case").
 --
 -- Loading validates everything a runner later relies on: every key is known,
 -- every operand exists in the case's PLC layout, every value fits its

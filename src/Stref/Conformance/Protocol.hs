@@ -1,5 +1,5 @@
--- | The engine protocol @stref-engine/1@ (shared/spec/corpus-format.md §2,
--- conformance/README.md): one JSON request on an engine's standard input,
+-- | The engine protocol @stref-engine/1@ (conformance/README.md, "Engines: the
+-- protocol"): one JSON request on an engine's standard input,
 -- one JSON answer on its standard output.
 --
 -- The runner always sends a complete request: the full policy assignment,

@@ -189,14 +189,21 @@ answerWith tools rq = case requestPolicies [] rq of
         RustyTools r -> rustyAnswer r pol rq
 
 -- | Messages name files by their place in the scratch directory and the
--- engine's library, not by this machine's paths.
+-- engine's library, and the user's home as ~ (a panic of an engine built
+-- with cargo names its registry there), not by this machine's paths.
+scrubbing :: [(FilePath, Text)] -> IO (Either Text Answer) -> IO (Either Text Answer)
+scrubbing places answer = do
+  home <- either (const "") id <$> (try getHomeDirectory :: IO (Either SomeException FilePath))
+  fmap (scrubAnswer (places ++ [(home, "~") | length home > 1])) <$> answer
+
+-- | The places are replaced in order.
 scrubAnswer :: [(FilePath, Text)] -> Answer -> Answer
 scrubAnswer places = \case
   AnswerRejected l k m -> AnswerRejected l k (scrub m)
   AnswerUnsupported m -> AnswerUnsupported (scrub m)
   a -> a
   where
-    scrub m = T.take 600 (foldr (\(p, r) -> T.replace (T.pack p) r) m places)
+    scrub m = T.take 600 (foldl (\acc (p, r) -> T.replace (T.pack p) r acc) m places)
 
 ------------------------------------------------------------------------------
 -- MATIEC
@@ -204,7 +211,7 @@ scrubAnswer places = \case
 matiecAnswer :: Matiec -> Policies -> Request -> IO (Either Text Answer)
 matiecAnswer tools pol rq = case Matiec.plan pol rq of
   Left why -> pure (Right (AnswerUnsupported why))
-  Right pl -> withScratch (\dir -> fmap (scrubAnswer [(tLibrary tools, "<lib>"), (dir, "<scratch>")]) <$> run pl dir)
+  Right pl -> withScratch (\dir -> scrubbing [(tLibrary tools, "<lib>"), (dir, "<scratch>")] (run pl dir))
   where
     run pl dir = do
       let source = dir </> T.unpack Matiec.caseFile
@@ -259,7 +266,7 @@ ironplcAnswer tools pol rq = withScratch $ \dir -> do
       bytecode = dir </> "case.iplc"
   TIO.writeFile source (Ironplc.planSource pl)
   compiled <- timeout (compileSeconds * 1000000) (readCreateProcessWithExitCode (proc (iCompiler tools) (["compile"] ++ Ironplc.planFlags pl ++ [source, "-o", bytecode])) "")
-  fmap (scrubAnswer [(dir, "<scratch>")]) <$> case compiled of
+  scrubbing [(dir, "<scratch>")] $ case compiled of
     Nothing -> pure (Right (AnswerRejected Nothing Nothing ("ironplcc ran for more than " <> T.pack (show compileSeconds) <> " s on this program without finishing")))
     Just (ExitFailure n, _, err) -> do
       writeFile (dir </> "ironplcc.err") err
@@ -288,7 +295,7 @@ rustyAnswer tools pol rq = case Rusty.plan pol rq of
     TIO.writeFile probes (Rusty.planProbes pl)
     let args = ["-c", source] ++ [probes | withProbes] ++ ["-i", rInclude tools </> "*.st", "-o", object, "--error-format", "clang"]
     compiled <- timeout (compileSeconds * 1000000) (readCreateProcessWithExitCode (proc (rPlc tools) args) "")
-    fmap (scrubAnswer [(rInclude tools, "<include>"), (dir, "<scratch>")]) <$> case compiled of
+    scrubbing [(rInclude tools, "<include>"), (dir, "<scratch>")] $ case compiled of
       Nothing -> pure (Right (AnswerRejected Nothing Nothing ("plc ran for more than " <> T.pack (show compileSeconds) <> " s on this program without finishing")))
       Just (ExitFailure n, _, err) -> do
         writeFile (dir </> "plc.err") err
