@@ -280,6 +280,18 @@ spec = describe "the stref command line" $ do
       err `shouldSatisfy` ("tecomat" `isInfixOf`)
 
   describe "run" $ do
+    it "--compare POLICY runs a MasterTool XE file under every alternative, over all its calls, and says after which call they part (MT-OP-6, MT-OP-7)" $ do
+      (code, out, _) <- stref ["run", fixture "accumulate-mastertool.st", "--compare", "overflow", "--calls", "5"]
+      code `shouldBe` ExitFailure 1
+      map words (lines out) `shouldContain` [["*", "TOTAL", "overflow=saturate:", "32767", "overflow=wrap:", "-15536", "overflow=trap:", "30000"]]
+      out `shouldSatisfy` ("error under overflow=trap: runtime error 9001 (integer overflow (trap policy)) at line 6, complements 0 0 0 in call 4" `isInfixOf`)
+      lines out `shouldContain` ["they part after call 4"]
+      (code3, out3, _) <- stref ["run", fixture "accumulate-mastertool.st", "--compare", "overflow", "--calls", "3"]
+      code3 `shouldBe` ExitSuccess
+      lines out3 `shouldContain` ["the variants agree after every call"]
+      (codeP, _, errP) <- stref ["run", fixture "accumulate-mastertool.st", "--presets", "tecomat"]
+      codeP `shouldBe` ExitFailure 2
+      errP `shouldSatisfy` ("compare the alternatives of a policy with --compare POLICY" `isInfixOf`)
     it "says, for a CHF parameter error, the counts expected and given (2009, 2010) or which parameter (MT-PARAM-3..7)" $ do
       (code, out, _) <- stref ["run", "--module", "F", fixture "chf-scale.st", "--in", "%M0010", "--out", "%M0020"]
       code `shouldBe` ExitFailure 1 -- a call ended in a runtime error

@@ -23,11 +23,18 @@ module Cmd.Common
   , inSnippet
   , sourceLine
   , portabilitySummary
+  , Comparison (..)
+  , printComparison
   ) where
 
 import Control.Exception (IOException, try)
 import Control.Monad (foldM)
+import Control.Monad (forM_)
 import qualified Data.Aeson as A
+import Data.Aeson ((.=))
+import qualified Data.Aeson.Key as K
+import qualified Data.ByteString.Lazy.Char8 as BL
+import qualified Data.Text.IO as TIO
 import qualified Data.ByteString as BS
 import Data.Char (isDigit, toUpper)
 import Data.Scientific (fromFloatDigits)
@@ -272,3 +279,48 @@ sourceLine src l = case drop (l - 1) (T.lines src) of
 -- | The last line of @check --portability@.
 portabilitySummary :: Int -> String
 portabilitySummary n = show n <> " portability warning" <> (if n == 1 then "" else "s") <> " (docs/policies.md explains each policy)"
+
+-- | A program run under several variants (presets, or the alternatives of
+-- a policy), side by side: @run --compare@ and @run --presets@.
+data Comparison = Comparison
+  { cmpVariants :: [Text]
+  , cmpUnit :: Text -- ^ what is counted: "cycle" (IEC), "call" (MasterTool XE)
+  , cmpCount :: Int
+  , cmpFirstParting :: Maybe Int -- ^ the first cycle after which the variants differ
+  , cmpErrors :: [Text] -- ^ each variant's error, or "none"
+  , cmpRows :: [(Text, [Text])] -- ^ an observed name and its value under each variant
+  }
+
+-- | The comparison as text (rows that differ marked @*@, then the first
+-- cycle where the variants part) or as one JSON object; exit 0 when they
+-- agree after every cycle, 1 when they differ somewhere (as diff does).
+printComparison :: Bool -> Comparison -> IO ExitCode
+printComparison json c = do
+  if json
+    then
+      BL.putStrLn . A.encode $
+        A.object
+          [ "variants" .= names
+          , "cycles" .= cmpCount c
+          , "first_parting_cycle" .= cmpFirstParting c
+          , "errors" .= A.object [K.fromText n .= e | (n, e) <- zip names (cmpErrors c)]
+          , "vars" .= A.object [K.fromText path .= A.object [K.fromText n .= v | (n, v) <- zip names vs] | (path, vs) <- cmpRows c]
+          , "differ" .= [path | (path, vs) <- cmpRows c, differs vs]
+          ]
+    else do
+      TIO.putStrLn ("variants: " <> T.intercalate ", " names <> "; " <> T.pack (show (cmpCount c)) <> " " <> unit <> "s")
+      forM_ (zip names (cmpErrors c)) $ \(n, e) -> TIO.putStrLn ("  error under " <> n <> ": " <> e)
+      let width = maximum (1 : map (T.length . fst) (cmpRows c))
+      forM_ (cmpRows c) $ \(path, vs) ->
+        TIO.putStrLn ((if differs vs then "* " else "  ") <> T.justifyLeft width ' ' path <> "  " <> T.intercalate "  " [n <> ": " <> v | (n, v) <- zip names vs])
+      TIO.putStrLn $ case (agreeAtEnd, cmpFirstParting c) of
+        (True, Nothing) -> "the variants agree after every " <> unit
+        (True, Just k) -> "they part after " <> unit <> " " <> T.pack (show k) <> " and agree again after the last"
+        (False, Just k) -> "they part after " <> unit <> " " <> T.pack (show k)
+        (False, Nothing) -> "they part after a " <> unit <> " beyond the first 1000"
+  pure (if cmpFirstParting c == Nothing && agreeAtEnd then ExitSuccess else ExitFailure 1)
+  where
+    names = cmpVariants c
+    unit = cmpUnit c
+    differs vs = any (/= head vs) vs
+    agreeAtEnd = not (any (differs . snd) (cmpRows c)) && not (differs (cmpErrors c))

@@ -44,7 +44,7 @@ import Stref.IEC.Portability (portability)
 import Stref.Portability (renderWarning, warningJson)
 import Stref.Trace (Item, items, renderJsonLines, renderText, watching)
 import Stref.Verification (renderError)
-import Cmd.Common (inSnippet, portabilitySummary, rejectionJson, sourceLine)
+import Cmd.Common (Comparison (..), inSnippet, portabilitySummary, printComparison, rejectionJson, sourceLine)
 
 -- | The preset of a dialect with @--policy K=V@ assignments applied.
 dialectPolicies :: String -> [String] -> Either Text Policies
@@ -211,40 +211,14 @@ compareIec variants file src o = case mapM (\(_, p) -> cycleMillis p (riCycle o)
         firstParting = case filter parted [1 .. min 1000 (riCalls o)] of
           k : _ -> Just k
           [] -> Nothing
-        names = map fst variants
         paths = M.keys (M.unions [m | Right (m, _) <- final])
         valueOf r path = either (const "rejected") (\(m, _) -> maybe "-" scalarText (M.lookup path m)) r
-        differs path = let vs = map (`valueOf` path) final in any (/= head vs) vs
         errorText = \case
           Left e -> "rejected: " <> T.strip (head (T.lines e <> [""]))
           Right (_, Nothing) -> "none"
           Right (_, Just (k, kind, l)) -> kind <> " in cycle " <> T.pack (show k) <> " at line " <> T.pack (show l)
-    if riJson o
-      then
-        BL.putStrLn $
-          A.encode $
-            A.object
-              [ "variants" .= names
-              , "cycles" .= riCalls o
-              , "first_parting_cycle" .= firstParting
-              , "errors" .= A.object [K.fromText n .= errorText r | (n, r) <- zip names final]
-              , "vars" .= A.object [K.fromText path .= A.object [K.fromText n .= valueOf r path | (n, r) <- zip names final] | path <- paths]
-              , "differ" .= filter differs paths
-              ]
-      else do
-        TIO.putStrLn ("variants: " <> T.intercalate ", " names <> "; " <> T.pack (show (riCalls o)) <> " cycles")
-        forM_ (zip names final) $ \(n, r) -> TIO.putStrLn ("  error under " <> n <> ": " <> errorText r)
-        let width = maximum (1 : map T.length paths)
-        forM_ paths $ \path ->
-          TIO.putStrLn ((if differs path then "* " else "  ") <> T.justifyLeft width ' ' path <> "  " <> T.intercalate "  " [n <> ": " <> valueOf r path | (n, r) <- zip names final])
-        let agreeAtEnd = null (filter differs paths) && all (== head (map errorText final)) (map errorText final)
-        TIO.putStrLn $ case (agreeAtEnd, firstParting) of
-          (True, Nothing) -> "the variants agree after every cycle"
-          (True, Just k) -> "they part after cycle " <> T.pack (show k) <> " and agree again after the last"
-          (False, Just k) -> "they part after cycle " <> T.pack (show k)
-          (False, Nothing) -> "they part after a cycle beyond the first 1000"
-    -- 0: they agree after every cycle; 1: they differ somewhere (as diff does)
-    pure (if firstParting == Nothing && null (filter differs paths) then ExitSuccess else ExitFailure 1)
+    printComparison (riJson o) $
+      Comparison (map fst variants) "cycle" (riCalls o) firstParting (map errorText final) [(path, map (`valueOf` path) final) | path <- paths]
   where
     usage e = TIO.hPutStrLn stderr ("stref run: " <> e) >> pure (ExitFailure 2)
 

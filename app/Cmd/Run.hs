@@ -11,6 +11,7 @@ import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Control.Monad (unless)
 import Data.Char (isDigit)
+import Data.Containers.ListUtils (nubOrd)
 import Data.Foldable (forM_, toList)
 import qualified Data.Map.Strict as M
 import Data.Scientific (floatingOrInteger, toRealFloat)
@@ -27,7 +28,7 @@ import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, r
 import Stref.Conformance.Case (Case (..), CallSetup (CallSetup), ExpValue (..), IecCall (..), IecSetup (..), iecScalar, parseScenario)
 import Stref.IEC.Engine (Call (..))
 import Stref.IEC.Eval (resetEvents)
-import Stref.Policy (PolicyInfo (..), lookupPolicy, setPolicy)
+import Stref.Policy (PolicyInfo (..), Policies, alternativesOf, lookupPolicy, setPolicy)
 import Stref.Checked (CModule (..), ModuleKind (..))
 import Stref.Diagnostics
 import Stref.Execution
@@ -118,7 +119,7 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
                 Right [] -> runIec pol (optFile o) src ro
                 Right vs -> compareIec vs (optFile o) src ro
   Right _
-    | not (null (optPresets o)) || optCompare o /= Nothing -> usageError "run" "--presets and --compare run IEC programs (--dialect tecomat, nexto or an engine's preset); for MasterTool XE snippets, stref eval --compare"
+    | not (null (optPresets o)) -> usageError "run" "--presets compares the presets of the IEC dialects (--dialect tecomat, nexto or an engine's preset); the MasterTool XE controller has one preset: compare the alternatives of a policy with --compare POLICY"
     | otherwise -> runMasterTool o
   where
     -- the presets named (each with the --policy settings), or the dialect's
@@ -207,40 +208,42 @@ runMasterTool o = do
                     -- watch table reads them, and a trace replaces it)
                     pure (roInitial outcome, foldr (\r rest -> CallStep r (roFinal outcome) rest) (CallsDone (roFinal outcome)) (roResults outcome), events, cmProgram cm)
                   Nothing -> (\(initial, stream) -> (initial, stream, [], cmProgram cm)) <$> streamModule runSetup cm calls
-          case started of
-            Left (BadSetting msg) -> usageError "run" msg
-            Left (Rejected errs) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) errs)) >> pure (ExitFailure 1)
-            Left (SyntaxError err) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) [err])) >> pure (ExitFailure 1)
-            Left failure -> do
-              TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
-              pure (ExitFailure 1)
-            Right (initial, stream, events, program) -> do
-              -- the trace first (text, or one JSON object per event), then
-              -- the usual report
-              forM_ (traceRequest (optTrace o)) $ \(_, watched) ->
-                mapM_ TIO.putStrLn $
-                  (if fmtJson then renderJsonLines pol else renderText pol (sourceLine src)) (watching watched (items events))
-              -- the calls are printed as they happen, so that memory does
-              -- not grow with --calls
-              let watched = watchTable (optTrace o)
-                  render
-                    | not (null watched) = printCallWatch fmtJson watched
-                    | fmtJson = \k r _ -> printCallJson k r
-                    | otherwise = \k r _ -> printCallText (parameterErrorDetail program (length chfIn) (length chfOut)) k r
-              if fmtJson then BL.putStr "{\"calls\":[" else pure ()
-              unless (null watched || fmtJson) $ TIO.putStrLn (watchRow (["call"] ++ watched ++ ["INTERNAL_OVERFLOW", "error"]))
-              ended <- consumeCalls render stream
-              case ended of
+          case optCompare o of
+            Just name -> compareMasterTool fmtJson (optFile o) src (T.pack name) pol (\p -> RunSetup p (pfConfig plc) kind (pfInit plc ++ sets)) (callsOf scenario)
+            Nothing -> case started of
                 Left (BadSetting msg) -> usageError "run" msg
+                Left (Rejected errs) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) errs)) >> pure (ExitFailure 1)
+                Left (SyntaxError err) | fmtJson -> BL.putStrLn (A.encode (rejectionJson (optFile o) [err])) >> pure (ExitFailure 1)
                 Left failure -> do
                   TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
                   pure (ExitFailure 1)
-                Right tally -> do
-                  let summary = RunSummary (psMemory initial) (psMemory (tFinal tally)) (tLast tally)
-                  if fmtJson
-                    then BL.putStrLn ("]," <> BL.drop 1 (A.encode (jsonSummary (pfConfig plc) summary)))
-                    else TIO.putStr (textSummary (pfConfig plc) summary)
-                  pure $ if tFailed tally then ExitFailure 1 else ExitSuccess
+                Right (initial, stream, events, program) -> do
+                  -- the trace first (text, or one JSON object per event), then
+                  -- the usual report
+                  forM_ (traceRequest (optTrace o)) $ \(_, watched) ->
+                    mapM_ TIO.putStrLn $
+                      (if fmtJson then renderJsonLines pol else renderText pol (sourceLine src)) (watching watched (items events))
+                  -- the calls are printed as they happen, so that memory does
+                  -- not grow with --calls
+                  let watched = watchTable (optTrace o)
+                      render
+                        | not (null watched) = printCallWatch fmtJson watched
+                        | fmtJson = \k r _ -> printCallJson k r
+                        | otherwise = \k r _ -> printCallText (parameterErrorDetail program (length chfIn) (length chfOut)) k r
+                  if fmtJson then BL.putStr "{\"calls\":[" else pure ()
+                  unless (null watched || fmtJson) $ TIO.putStrLn (watchRow (["call"] ++ watched ++ ["INTERNAL_OVERFLOW", "error"]))
+                  ended <- consumeCalls render stream
+                  case ended of
+                    Left (BadSetting msg) -> usageError "run" msg
+                    Left failure -> do
+                      TIO.hPutStr stderr (renderRunFailure (optFile o) src failure)
+                      pure (ExitFailure 1)
+                    Right tally -> do
+                      let summary = RunSummary (psMemory initial) (psMemory (tFinal tally)) (tLast tally)
+                      if fmtJson
+                        then BL.putStrLn ("]," <> BL.drop 1 (A.encode (jsonSummary (pfConfig plc) summary)))
+                        else TIO.putStr (textSummary (pfConfig plc) summary)
+                      pure $ if tFailed tally then ExitFailure 1 else ExitSuccess
   where
     flag name = \case
       Nothing -> Right True
@@ -505,3 +508,72 @@ callCount = eitherReader $ \s -> case reads s :: [(Integer, String)] of
   [(n, "")]
     | n >= 0 && n <= toInteger maxCalls -> Right (fromInteger n)
   _ -> Left ("--calls takes a number from 0 to " <> show maxCalls <> ", not " <> s)
+
+-- | @run FILE --compare POLICY@ for a MasterTool XE module: its calls under
+-- every alternative of the policy, in step; after the last call the
+-- operands changed, the outputs, INTERNAL_OVERFLOW, the diagnostic band and
+-- the variables side by side, with the first call after which the
+-- alternatives part (their results or the controller's memory differ).
+compareMasterTool :: Bool -> FilePath -> Text -> Text -> Policies -> (Policies -> RunSetup) -> Either Text [CallSpec] -> IO ExitCode
+compareMasterTool json file src name pol setupFor callsE = case (alternativesOf name pol, callsE) of
+  (Left msg, _) -> usageError "run" msg
+  (_, Left msg) -> usageError "run" msg
+  (Right alts, Right calls) -> do
+    let started = [(alt, p, compileSource p (rsKind (setupFor p)) file src >>= \cm -> streamModule (setupFor p) cm calls) | (alt, p) <- alts]
+    case [f | (_, _, Left f) <- started] of
+      failure : _ | length [() | (_, _, Right _) <- started] == 0 || isBadSetting failure -> do
+        TIO.hPutStr stderr (renderRunFailure file src failure)
+        pure (ExitFailure (if isBadSetting failure then 2 else 1))
+      _ -> do
+        let cfg = rsPlc (setupFor pol)
+            ran = [(alt, either (const Nothing) Just s) | (alt, _, s) <- started]
+            streams = [snd <$> s | (_, s) <- ran]
+        case inStep 1 Nothing (map (const Nothing) ran) Nothing streams of
+          Left failure -> TIO.hPutStr stderr (renderRunFailure file src failure) >> pure (ExitFailure 2)
+          Right (parting, firstErrors, lastCalls, finals) -> do
+            let initials = [fst <$> s | (_, s) <- ran]
+                changed = nubOrd [c | (Just i, Just f) <- zip initials finals, (c, _, _) <- changedCells cfg (psMemory i) (psMemory f), c `notElem` bandCells cfg]
+                column f = maybe "rejected" f
+                operandRows = [(renderOperand (cellOperand c), [column (\st -> cellText (psMemory st) c) st | st <- finals]) | c <- changed]
+                callRows =
+                  [("OUTPUT" <> tshow i, [column (\r -> showValue (VBool (outputsList (crOutputs r) !! (i - 1)))) r | r <- lastCalls]) | i <- [1 .. 3 :: Int]]
+                    ++ [("INTERNAL_OVERFLOW", [column (showValue . VBool . crOverflow) r | r <- lastCalls])]
+                    ++ [("diagnostics " <> renderOperand (OpSimple KM (plcDiagnostics cfg)) <> "..", [column (\st -> T.unwords [tshow (signedM (psMemory st) c) | c <- bandCells cfg]) st | st <- finals])]
+                vars = nubOrd [n | Just r <- lastCalls, (n, _) <- crVars r]
+                varRows = [(n, [column (\r -> maybe "-" showValue (lookup n (crVars r))) r | r <- lastCalls]) | n <- vars]
+                errorText started' e = case (started', e) of
+                  (Nothing, _) -> "rejected"
+                  (_, Nothing) -> "none"
+                  (_, Just (k, err)) -> describeError err <> " in call " <> tshow k
+            printComparison json $
+              Comparison [name <> "=" <> a | (a, _) <- ran] "call" (length calls) parting (zipWith errorText (map snd ran) firstErrors) (operandRows ++ callRows ++ varRows)
+  where
+    isBadSetting = \case
+      BadSetting _ -> True
+      _ -> False
+    -- the streams in step: the first call after which they differ, each
+    -- one's first error, last call and final state (Nothing: rejected)
+    inStep :: Int -> Maybe Int -> [Maybe (Int, RuntimeError)] -> Maybe [Maybe CallResult] -> [Maybe CallStream] -> Either RunFailure (Maybe Int, [Maybe (Int, RuntimeError)], [Maybe CallResult], [Maybe PlcState])
+    inStep !k parting errs lastCalls streams = case sequence [maybe (Right Nothing) (fmap Just . step) s | s <- streams] of
+      Left failure -> Left failure
+      Right steps
+        | all (maybe True isDone) steps -> Right (parting, errs, maybe (map (const Nothing) streams) id lastCalls, [s >>= finalState | s <- steps])
+        | otherwise ->
+            let seen = [(\(r, st, _) -> (crOutputs r, crError r, crOverflow r, crVars r, psMemory st)) <$> (s >>= running) | s <- steps]
+                parting' = case parting of
+                  Nothing | any (/= head seen) seen -> Just k
+                  _ -> parting
+                errs' = [maybe (maybe Nothing (\(r, _, _) -> (k,) <$> crError r) (s >>= running)) Just e | (e, s) <- zip errs steps]
+             in inStep (k + 1) parting' errs' (Just [(\(r, _, _) -> r) <$> (s >>= running) | s <- steps]) [(\(_, _, rest) -> rest) <$> (s >>= running) | s <- steps]
+    step = \case
+      CallsFailed failure -> Left failure
+      s -> Right s
+    isDone = \case
+      CallsDone _ -> True
+      _ -> False
+    finalState = \case
+      CallsDone st -> Just st
+      _ -> Nothing
+    running = \case
+      CallStep r st rest -> Just (r, st, rest)
+      _ -> Nothing
