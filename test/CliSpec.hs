@@ -210,6 +210,15 @@ spec = describe "the stref command line" $ do
       (code, out, _) <- stref ["eval", "--dialect", "tecomat", "--compare", "overflow", "VAR x : SINT := 127; y : INT; END_VAR x := x + 1; y := 3;"]
       code `shouldBe` ExitSuccess
       map words (lines out) `shouldContain` [["*", "MAIN.x", "127", "-128", "127"], ["*", "MAIN.y", "3", "3", "0"]]
+    it "eval --calls N calls a MasterTool XE snippet N times: mapped operands keep their values, locals start again (MT-EXEC-9)" $ do
+      (code, out, _) <- stref ["eval", "--calls", "3", "VAR A AT %M0010 : INT; B : INT; END_VAR A := A + 1; B := B + 1;"]
+      code `shouldBe` ExitSuccess
+      lines out `shouldContain` ["A = 3", "B = 1"]
+      (_, traced, _) <- stref ["eval", "--calls", "2", "--trace", "VAR A AT %M0010 : INT; END_VAR A := A + 1;"]
+      lines traced `shouldContain` ["cycle 2"]
+      (code0, _, err0) <- stref ["eval", "--calls", "0", "VAR A : INT; END_VAR A := 1;"]
+      code0 `shouldBe` ExitFailure 2
+      err0 `shouldSatisfy` ("--calls takes a number of module calls from 1" `isInfixOf`)
     it "explore --compare finds generated programs whose result depends on the overflow policy and shrinks one to a few lines (TC-OP-20)" $ do
       (code, out, _) <- stref ["explore", "--dialect", "tecomat", "--compare", "overflow", "--count", "50", "--seed", "7"]
       code `shouldBe` ExitFailure 1

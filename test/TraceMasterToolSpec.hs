@@ -150,7 +150,7 @@ spec = do
       [n | Cycle n <- traceOf mastertoolXE False 3 overflowProgram] `shouldBe` [1, 2, 3]
     it "traces a snippet (stref eval --trace) and gives the untraced result" $ do
       let snippet = "VAR I : INT; END_VAR I := 32767 + 1;"
-      case (evalSnippetTraced False mastertoolXE snippet, evalSnippet mastertoolXE snippet) of
+      case (evalSnippetTraced False 1 mastertoolXE snippet, evalSnippet mastertoolXE snippet) of
         (Right (traced, evs), Right plain) -> do
           srResult traced `shouldBe` srResult plain
           [dRules d | Rule _ d <- evs] `shouldContain` [["MT-OP-6"]]

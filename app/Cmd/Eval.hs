@@ -47,7 +47,7 @@ options =
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "Run under every alternative of POLICY and show the results side by side"))
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
     <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect runs the snippet as the body of PROGRAM MAIN)")
-    <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "IEC dialects: the number of scan cycles")
+    <*> option auto (long "calls" <> metavar "N" <> value 1 <> showDefault <> help "The number of scan cycles (IEC dialects) or module calls (MasterTool XE: the operands a snippet maps keep their values, its locals start again)")
     <*> traceFlags
 
 -- | One run's observable outcome, as lines of (label, value).
@@ -98,21 +98,22 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
 runMasterTool :: Options -> IO ExitCode
 runMasterTool o = case applyPolicies (optPolicies o) of
   Left msg -> usageError "eval" msg
+  Right _ | optCalls o < 1 -> usageError "eval" "--calls takes a number of module calls from 1 (the result is the last call's)"
   Right pol -> case optCompare o of
     Nothing
-      | Just (everyIteration, watched) <- traceRequest (optTrace o) -> case evalSnippetTraced everyIteration pol (oneStatementALine snippet) of
+      | Just (everyIteration, watched) <- traceRequest (optTrace o) -> case evalSnippetTraced everyIteration (optCalls o) pol (oneStatementALine snippet) of
           Left (src, failure) -> rejected src failure
           Right (sr, events) -> do
             mapM_ TIO.putStrLn (renderText pol (sourceLine (snSource (srSnippet sr))) (watching watched (items events)))
             shown sr
-    Nothing -> case evalSnippet pol snippet of
+    Nothing -> case evalSnippetCalls (optCalls o) pol snippet of
       Left (src, failure) -> rejected src failure
       Right sr -> shown sr
     Just name -> case alternativesOf (T.pack name) pol of
       Left msg -> usageError "eval" msg
       Right alts | Just (everyIteration, watched) <- traceRequest (optTrace o) -> do
         -- each alternative's trace from the first item where they part
-        let runs = [(alt, p, evalSnippetTraced everyIteration p (oneStatementALine snippet)) | (alt, p) <- alts]
+        let runs = [(alt, p, evalSnippetTraced everyIteration (optCalls o) p (oneStatementALine snippet)) | (alt, p) <- alts]
         case [(alt, p, snSource (srSnippet sr), watching watched (items events)) | (alt, p, Right (sr, events)) <- runs] of
           ran@((_, _, src, _) : _) -> do
             mapM_ TIO.putStrLn (compareTraces (T.pack name) (sourceLine src) [(alt, p, its) | (alt, p, _, its) <- ran])
@@ -121,7 +122,7 @@ runMasterTool o = case applyPolicies (optPolicies o) of
             (src, f) : _ -> rejected src f
             [] -> usageError "eval" ("the policy " <> T.pack name <> " has no alternatives")
       Right alts -> do
-        let runs = [(alt, evalSnippet p snippet) | (alt, p) <- alts]
+        let runs = [(alt, evalSnippetCalls (optCalls o) p snippet) | (alt, p) <- alts]
         case [(src, f) | (_, Left (src, f)) <- runs] of
           (src, f) : _ | all (isLeft . snd) runs -> rejected src f
           _ -> do

@@ -29,6 +29,7 @@ module Stref.Run
   , Snippet (..)
   , SnippetResult (..)
   , evalSnippet
+  , evalSnippetCalls
   , evalSnippetTraced
   ) where
 
@@ -291,18 +292,33 @@ resultName = "EVAL_RESULT"
 -- (literals take the type of their context, decision A11), or failing that
 -- the first it accepts at all.
 evalSnippet :: Policies -> Text -> Either (Text, RunFailure) SnippetResult
-evalSnippet pol snippet = do
-  (sn, t, cm) <- snippetModule pol snippet
-  Right (SnippetResult sn t (snd (runCall pol defaultPlcConfig cm defaultCallInput initialPlcState)))
+evalSnippet = evalSnippetCalls 1
 
--- | 'evalSnippet' with tracing on: the result and the events of its run
--- (every loop iteration kept with @True@).
-evalSnippetTraced :: Bool -> Policies -> Text -> Either (Text, RunFailure) (SnippetResult, [Event])
-evalSnippetTraced everyIteration pol snippet = do
+-- | 'evalSnippet' over several calls (at least one): its locals start again
+-- at each call (MT-EXEC-9), the operands it maps keep their values; the
+-- result is the last call's.
+evalSnippetCalls :: Int -> Policies -> Text -> Either (Text, RunFailure) SnippetResult
+evalSnippetCalls calls pol snippet = do
+  (sn, t, cm) <- snippetModule pol snippet
+  let compiled = compileModule pol defaultPlcConfig cm
+      lastCall k st =
+        let (st', r) = runCompiled pol defaultPlcConfig cm compiled defaultCallInput st
+         in if k <= 1 then r else lastCall (k - 1 :: Int) st'
+  Right (SnippetResult sn t (lastCall calls initialPlcState))
+
+-- | 'evalSnippetCalls' with tracing on: the result and the events of its
+-- calls (every loop iteration kept with @True@).
+evalSnippetTraced :: Bool -> Int -> Policies -> Text -> Either (Text, RunFailure) (SnippetResult, [Event])
+evalSnippetTraced everyIteration calls pol snippet = do
   (sn, t, cm) <- snippetModule pol snippet
   let compiled = compileTracedModule pol defaultPlcConfig cm
-      (_, r, tracer) = runCompiledTraced pol defaultPlcConfig cm compiled (newTracer everyIteration) defaultCallInput initialPlcState
-  Right (SnippetResult sn t r, tracerEvents tracer)
+      -- several calls are told apart as a run's are, one call is not
+      numbered k tracer = if calls > 1 then emit (Cycle (calls - k + 1)) tracer else tracer
+      lastCall k st tracer =
+        let (st', r, tracer') = runCompiledTraced pol defaultPlcConfig cm compiled (numbered k tracer) defaultCallInput st
+         in if k <= 1 then (r, tracer') else lastCall (k - 1 :: Int) st' tracer'
+      (r, traced) = lastCall calls initialPlcState (newTracer everyIteration)
+  Right (SnippetResult sn t r, tracerEvents traced)
 
 -- | The program a snippet is wrapped into, checked, and a bare
 -- expression's type.
