@@ -289,6 +289,11 @@ spec = describe "the stref command line" $ do
       err `shouldSatisfy` ("tecomat" `isInfixOf`)
 
   describe "run" $ do
+    it "says on each call's line when the call leaves INTERNAL_OVERFLOW set (MT-OP-7)" $ do
+      (_, out, _) <- stref ["run", fixture "sat.st", "--set", "%M0010=15000", "--set", "%M0011=25000"]
+      take 1 (lines out) `shouldBe` ["call 1: ok, INTERNAL_OVERFLOW set (2 steps)"]
+      (_, quiet, _) <- stref ["run", fixture "sat.st", "--set", "%M0010=1", "--set", "%M0011=2"]
+      take 1 (lines quiet) `shouldBe` ["call 1: ok (2 steps)"]
     it "--compare POLICY runs a MasterTool XE file under every alternative, over all its calls, and says after which call they part (MT-OP-6, MT-OP-7)" $ do
       (code, out, _) <- stref ["run", fixture "accumulate-mastertool.st", "--compare", "overflow", "--calls", "5"]
       code `shouldBe` ExitFailure 1

@@ -326,10 +326,12 @@ watchRow = T.stripEnd . T.concat . map (\c -> T.justifyLeft (max 12 (T.length c 
 printCallText :: (RuntimeError -> Maybe Text) -> Int -> CallResult -> CallOutput
 printCallText detail k r
   | not (crExecuted r) = Bytes (prefix <> ascii "not executed (INPUT1 is FALSE)\n")
-  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e <> maybe "" (": " <>) (detail e)) >> putBytes (steps <> ascii "\n"))
-  | otherwise = Bytes (prefix <> ascii "ok" <> steps <> ascii "\n")
+  | Just e <- crError r = Direct (putBytes prefix >> TIO.putStr (describeError e <> maybe "" (": " <>) (detail e)) >> putBytes (overflow <> steps <> ascii "\n"))
+  | otherwise = Bytes (prefix <> ascii "ok" <> overflow <> steps <> ascii "\n")
   where
     prefix = ascii "call " <> BB.intDec k <> ascii ": "
+    -- MT-OP-7: said on every call that leaves the flag set
+    overflow = if crOverflow r then ascii ", INTERNAL_OVERFLOW set" else mempty
     steps = ascii " (" <> BB.intDec (crSteps r) <> ascii " steps)"
 
 -- | Bytes of a literal, packed once (a 'BB.Builder' literal would encode
