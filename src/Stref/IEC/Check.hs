@@ -598,6 +598,35 @@ resolveDefault spec = do
         v -> v
     _ -> pure (defaultValue ty)
 
+-- | NX-TYPE-74: @POINTER TO T@. A structure or union that a TYPE declares
+-- is named, not spelt out ('TNamed'), so that its members may point at it.
+pointerTo :: TypeSpec -> C Type
+pointerTo spec = do
+  types <- asks envTypes
+  case spec of
+    TSName _ n
+      | Just td <- M.lookup (key n) types, structured (tdSpec td) -> pure (TPointer (TNamed (tdName td)))
+    _ -> pointerOf <$> resolveType spec
+  where
+    structured = \case
+      TSStruct {} -> True
+      TSUnion {} -> True
+      TSExtends {} -> True
+      _ -> False
+
+-- | The type of a pointer to a value of this type (ADR, NX-TYPE-75).
+pointerOf :: Type -> Type
+pointerOf = \case
+  TStruct n _ | not (T.null n) -> TPointer (TNamed n)
+  TUnion n _ | not (T.null n) -> TPointer (TNamed n)
+  t -> TPointer t
+
+-- | What a pointer points at, a named structure looked up.
+pointee :: Pos -> Type -> C Type
+pointee p = \case
+  TNamed n -> resolveType (TSName p n)
+  t -> pure t
+
 -- | A type given by name (whose TYPE may state its own initial value).
 isNamed :: TypeSpec -> Bool
 isNamed = \case
@@ -701,7 +730,7 @@ resolveType = \case
               unless (fitInt e x) (failC "value-out-of-limits" vp ("the value " <> T.pack (show x) <> " of " <> n <> " lies outside " <> elemName e <> " (NX-TYPE-67)"))
               ((n, x) :) <$> go (x + 1) rest
         TNumEnum "" e <$> go 0 items
-  TSPointer _ t -> TPointer <$> resolveType t
+  TSPointer _ t -> pointerTo t
   TSExtends p b spec -> do
     -- NX-TYPE-55: the base structure's members first, none declared again
     base <- resolveType (TSName p b)
@@ -1104,14 +1133,15 @@ checkRef = \case
             Just e | isAnyInt e -> pure ce
             _ -> failC "type-mismatch" (exprPos i) "an array index is an integer (TC-TYPE-38)"
         pure (CIndex ref is, t, access)
-      TPointer t | [i] <- ixs -> do
+      TPointer target | [i] <- ixs -> do
         -- NX-TYPE-77: p[i] is (p + i * SIZEOF(T))^, the i-th element from p
         ce <- checkExprAt (Just (TElem DINT)) i
+        t <- pointee p target
         step <- pointerStep t
         let asDWord c = CExpr (cePos c) (TElem DWORD) (CConvert (TElem DWORD) c)
             base' = CExpr p (TElem DWORD) (CRead ref)
             offset = CExpr p (TElem DWORD) (CBinary BMul (asDWord ce) (CExpr p (TElem DWORD) (CConst (VInt DWORD step))))
-        pure (CDeref (CExpr p (TPointer t) (CBinary BAdd base' offset)) t, t, Writable)
+        pure (CDeref (CExpr p (TPointer target) (CBinary BAdd base' offset)) t, t, Writable)
       TString w _ | [i] <- ixs -> do
         -- NX-TYPE-77: a STRING's character as a BYTE, a WSTRING's as a WORD, from 0
         ce <- checkExprAt (Just (TElem DINT)) i
@@ -1131,7 +1161,7 @@ checkRef = \case
     -- NX-TYPE-75: p^ is what p points at
     ce <- checkExprAt Nothing e
     case ceType ce of
-      TPointer t -> pure (CDeref ce t, t, Writable)
+      TPointer target -> pointee p target >>= \t -> pure (CDeref ce t, t, Writable)
       t -> failC "type-mismatch" p ("^ follows a pointer; this is a " <> typeText t)
   EGlobalScope p n -> do
     -- NX-OP-88, NX-VAR-34: .name is the global, whatever a local is called
@@ -1765,7 +1795,7 @@ callExpr expected p f args
               fixed p (TElem DWORD) (CConst (VInt DWORD (codeArea + 16 * toInteger (M.findIndex (key n) pous))))
             _ -> do
               (ref, t, _) <- checkRef x
-              fixed p (TPointer t) (CAddressOf ref)
+              fixed p (pointerOf t) (CAddressOf ref)
         _ -> failC "too-many-arguments" p "ADR takes one variable"
   | key f == "BITADR" = do
       pol <- asks envPol
@@ -1828,6 +1858,7 @@ sizeOf = \case
   TFB _ -> 0
   TProgram _ -> 0
   TPointer _ -> 4 -- NX-TYPE-78: an address is a DWORD
+  TNamed _ -> 0 -- only a pointer's target
 
 callStandard :: Maybe Type -> Pos -> Text -> [Arg] -> C TExpr
 callStandard expected p f args = do

@@ -223,6 +223,8 @@ scalarValue pol ty s = case (ty, s) of
     _ -> Left (T.pack (show n) <> " is not a value of " <> elemName e)
   (TSubrange e _ _, SNumber n) | Just i <- integral n -> Right (VInt e i)
   (TNumEnum _ e _, SNumber n) | Just i <- integral n -> Right (VInt e i)
+  -- NX-TYPE-78: an address is a DWORD
+  (TPointer _, SNumber n) | Just i <- integral n, fitInt DWORD i -> Right (VInt DWORD i)
   (TElem REAL, SNumber n) -> Right (VReal (scientificToFloat n))
   (TElem LREAL, SNumber n) -> Right (VLReal (scientificToDouble n))
   (TElem REAL, SNaN) -> Right (VReal (0 / 0))

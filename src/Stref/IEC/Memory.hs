@@ -77,6 +77,7 @@ sizeAlign ly = \case
   TFB n -> record (map snd (lyMembers ly n))
   TProgram n -> record (map snd (lyMembers ly n))
   TPointer _ -> (4, 4)
+  TNamed _ -> (0, 1) -- never stored: only a pointer's target
   where
     record = packed Nothing
     packed pack ts =

@@ -67,6 +67,10 @@ data Type
   -- name, its base type and its values; a value is a number of the base type
   | TPointer Type -- ^ CODESYS: @POINTER TO T@; its value is an address, a DWORD (NX-TYPE-74, NX-TYPE-78)
   | TUnion Text [(Text, Type)] -- ^ CODESYS: a @UNION@, whose members share their storage (NX-TYPE-72, NX-TYPE-73)
+  | TNamed Text
+  -- ^ only under 'TPointer': a structure or union named by its TYPE, looked
+  -- up when the pointer is followed, so that a structure may point at its
+  -- own type (a list's node)
   deriving (Eq, Ord, Show)
 
 allElems :: [Elem]
@@ -153,6 +157,7 @@ typeText = \case
   TFB n -> n
   TProgram n -> n
   TPointer t -> "POINTER TO " <> typeText t
+  TNamed n -> n
   TNumEnum n _ _ -> n
 
 -- | The elementary type under a subrange, or of an elementary type.

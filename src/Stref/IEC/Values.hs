@@ -98,6 +98,7 @@ defaultValue = \case
   TFB n -> VInstance n M.empty
   TProgram n -> VInstance n M.empty
   TPointer _ -> VInt DWORD 0 -- the null pointer
+  TNamed _ -> VStruct M.empty -- never a variable's type: only a pointer's target
   TNumEnum _ e ((_, v) : _) -> VInt e v -- NX-TYPE-36: the first value
   TNumEnum _ e [] -> VInt e 0
 
