@@ -228,7 +228,7 @@ compareIec variants file src o = case mapM (\(_, p) -> cycleMillis p (riCycle o)
 watchValue :: Policies -> Program -> Machine -> Text -> Maybe Scalar
 watchValue pol prog m name
   | "%" `T.isPrefixOf` name = case locationOf pol name of
-      Right l -> Just (valueScalar (readLocatedVar l (locationType l) m))
+      Right l -> Just (valueScalar (readLocatedVar prog l (locationType l) m))
       Left _ -> Nothing
   | otherwise = case [v | p <- name : [inst <> "." <> name | (inst, _) <- prRoots prog], Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath prog m steps]] of
       v : _ -> Just (valueScalar v)

@@ -244,6 +244,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prGlobalInitArgs = globalInitArgs
       , prPackModes = packModes
       , prVarConfig = varConfig
+      , prTimeRange = pTimeRange pol
       , prChecks = if pExtensions pol == ExtensionsCodesys then [key (pouName p) | p <- pous, pouKind p == KFunction, key (pouName p) `elem` checkFunctionNames] else []
       }
   where

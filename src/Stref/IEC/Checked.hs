@@ -29,7 +29,7 @@ import qualified Data.Text as T
 import Stref.IEC.Syntax (AssignOp, BinOp, EdgeQualifier, Location, Pos, PouKind, Section, UnOp)
 import Stref.IEC.Types
 import Stref.IEC.Values
-import Stref.Policy (Policies)
+import Stref.Policy (Policies, TimeRange)
 
 -- | Names compare without case (TC-LEX-15): every map is keyed by the
 -- upper-case name.
@@ -48,6 +48,7 @@ data Program = Program
   , prChecks :: [Text] -- ^ the implicit check functions the program declares, by key (NX-ERR-1)
   , prPackModes :: Map Text Integer -- ^ CODESYS: the pack_mode of each structure type that states one, by key (NX-PRAGMA-11)
   , prVarConfig :: [(Char, [Step], Location, Type)] -- ^ CODESYS: each instance variable VAR_CONFIG places, its class (I, Q), path, address and type (NX-VAR-14)
+  , prTimeRange :: TimeRange -- ^ how a TIME is read from the bytes of a direct address (policy time-range)
   }
 
 -- | A declared variable.

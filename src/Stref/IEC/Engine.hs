@@ -188,7 +188,7 @@ iecAnswer traced pol rq = do
       Just r -> maybe (Left ("the reset '" <> r <> "' is none of warm, cold, origin, download")) (Right . Reset) (lookup r resetEvents)
     observe r p
       | "%" `T.isPrefixOf` p = case locationOf pol p of
-          Right l -> Just (valueScalar (readLocatedVar l (locationType l) (rrMachine r)))
+          Right l -> Just (valueScalar (readLocatedVar (rrProgram r) l (locationType l) (rrMachine r)))
           Left _ -> Nothing
       | otherwise = case parseVarPath p of
           Right steps -> valueScalar . fst <$> readVariablePath (rrProgram r) (rrMachine r) steps

@@ -228,7 +228,7 @@ runInit pol prog m0 act =
 -- ends without an error.
 runCycle :: Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
 runCycle pol prog clock m0 =
-  let inputs m1 = foldl (\acc (_, steps, l, t) -> fromMaybe acc (writeVariablePath prog acc steps (readLocated l t (mMemory acc)))) m1 [c | c@('I', _, _, _) <- prVarConfig prog]
+  let inputs m1 = foldl (\acc (_, steps, l, t) -> fromMaybe acc (writeVariablePath prog acc steps (readLocated (prTimeRange prog) l t (mMemory acc)))) m1 [c | c@('I', _, _, _) <- prVarConfig prog]
       outputs m1 = foldl (\acc (_, steps, l, t) -> maybe acc (\(v, _) -> acc {mMemory = writeLocated l t v (mMemory acc)}) (readVariablePath prog acc steps)) m1 [c | c@('Q', _, _, _) <- prVarConfig prog]
       m = inputs m0 {mClock = clock, mSteps = 0, mFrames = M.empty}
       run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
@@ -434,7 +434,7 @@ edgesIn d inst = do
 -- values) is copied in and, after the body, back.
 bindInOuts :: RefPath -> [(Text, CRef, RefPath)] -> Eval ()
 bindInOuts base = mapM_ $ \(k, r, path) -> case r of
-  CLocated l t -> gets (readLocated l t . mMemory) >>= putPath (extend base (StepField k))
+  CLocated l t -> located l t >>= putPath (extend base (StepField k))
   _ -> putPath (extend base (StepField k)) (VRef path)
 
 copyBack :: RefPath -> [(Text, CRef, RefPath)] -> Eval ()
@@ -946,8 +946,14 @@ refPath p = \case
 -- | Read a reference (located variables from the bytes).
 getRef :: Pos -> CRef -> RefPath -> Eval Value
 getRef _ r path = case r of
-  CLocated l t -> gets (readLocated l t . mMemory)
+  CLocated l t -> located l t
   _ -> getPath path
+
+-- | A located variable's value, read from its bytes.
+located :: Location -> Type -> Eval Value
+located l t = do
+  range <- asks (prTimeRange . cxProgram)
+  gets (readLocated range l t . mMemory)
 
 -- | Store into a target of a declared type: strings cut to their capacity
 -- (policy @string-overflow@), subranges checked (policy @subrange@).
@@ -1121,8 +1127,10 @@ placeOf l t = case (t, locAddress l) of
       Just TIME -> 4
       _ -> 1
 
-readLocated :: Location -> Type -> M.Map (Char, Integer) Integer -> Value
-readLocated l t mem =
+-- | A TIME is read as the policy time-range counts it: a signed count, or a
+-- DWORD's (NX-TYPE-30).
+readLocated :: TimeRange -> Location -> Type -> M.Map (Char, Integer) Integer -> Value
+readLocated range l t mem =
   let (area, a, bit, width) = placeOf l t
       byte i = M.findWithDefault 0 (area, a + toInteger i) mem
       raw = sum [byte i `shiftL` (8 * i) | i <- [0 .. width - 1]]
@@ -1130,7 +1138,7 @@ readLocated l t mem =
         (Just BOOL, Just b) -> VBool (testBit (byte (0 :: Int)) b)
         (Just REAL, _) -> VReal (castWord32ToFloat (fromInteger raw))
         (Just LREAL, _) -> VLReal (castWord64ToDouble (fromInteger raw))
-        (Just TIME, _) -> VTime TIME (wrapInt TIME raw)
+        (Just TIME, _) -> VTime TIME (if range == TimeUnsigned then raw else wrapInt TIME raw)
         (Just BOOL, Nothing) -> VBool (raw /= 0)
         (Just e, _) -> VInt e (wrapInt e raw)
         _ -> defaultValue t
@@ -1168,12 +1176,12 @@ readVariablePath prog m = readPath . throughList prog
             d <- lookupPou prog t
             fromInstance d inst rest
         | otherwise -> case find ((== first) . viKey) (prGlobals prog) of
-            Just v | Just l <- viAt v, null rest -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
+            Just v | Just l <- viAt v, null rest -> Just (readLocated (prTimeRange prog) l (viType v) (mMemory m), Just (viType v))
             Just v -> (,Nothing) <$> (M.lookup first (mGlobals m) >>= walkFollow rest) >>= \(x, _) -> Just (x, typeAt (viType v) rest)
             Nothing -> Nothing
       _ -> Nothing
     fromInstance d inst rest = case rest of
-      StepField k : more | Just v <- varByKey d k, Just l <- viAt v, null more -> Just (readLocated l (viType v) (mMemory m), Just (viType v))
+      StepField k : more | Just v <- varByKey d k, Just l <- viAt v, null more -> Just (readLocated (prTimeRange prog) l (viType v) (mMemory m), Just (viType v))
       StepField k : more | Just v <- varByKey d k -> do
         x <- walkFollow rest inst
         pure (x, typeAt (viType v) more)
@@ -1223,8 +1231,8 @@ writeVariablePath prog m steps0 v = case throughList prog steps0 of
       _ <- walk s root
       Just (setRoot r (updateAt s v root) m)
 
-readLocatedVar :: Location -> Type -> Machine -> Value
-readLocatedVar l t m = readLocated l t (mMemory m)
+readLocatedVar :: Program -> Location -> Type -> Machine -> Value
+readLocatedVar prog l t m = readLocated (prTimeRange prog) l t (mMemory m)
 
 writeLocatedVar :: Location -> Type -> Value -> Machine -> Machine
 writeLocatedVar l t v m = m {mMemory = writeLocated l t v (mMemory m)}
