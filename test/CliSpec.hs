@@ -288,6 +288,14 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` ("tecomat" `isInfixOf`)
 
+  describe "check, rule ids" $
+    it "a reserved name cites the rules of the dialect's own catalogue (NX-LEX-12 under nexto, TC-LEX-3 under tecomat)" $ do
+      (code, _, err) <- stref ["check", "--dialect", "nexto", fixture "nexto-reserved.st"]
+      code `shouldBe` ExitFailure 1
+      err `shouldSatisfy` ("(NX-LEX-12, NX-LEX-13) [reserved-name]" `isInfixOf`)
+      (_, _, errT) <- stref ["check", "--dialect", "tecomat", fixture "nexto-reserved.st"]
+      errT `shouldSatisfy` ("(TC-LEX-1, TC-LEX-3) [reserved-name]" `isInfixOf`)
+
   describe "run" $ do
     it "says on each call's line when the call leaves INTERNAL_OVERFLOW set (MT-OP-7)" $ do
       (_, out, _) <- stref ["run", fixture "sat.st", "--set", "%M0010=15000", "--set", "%M0011=25000"]

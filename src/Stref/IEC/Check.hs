@@ -99,6 +99,12 @@ reservedName pol n =
               || (("IN" `T.isPrefixOf` u) && T.length u > 2 && T.all (`elem` ['0' .. '9']) (T.drop 2 u))
           ReservedCodesys -> u `elem` codesysReserved -- NX-LEX-12
 
+-- | Which names 'reservedName' keeps from what, with the dialect's rules.
+reservedWhy :: Policies -> Text -> Text
+reservedWhy pol what = case pReservedNames pol of
+  ReservedIec -> "elementary types, standard functions and standard function blocks cannot name " <> what <> " (TC-LEX-1, TC-LEX-3)"
+  ReservedCodesys -> "elementary types, conversion operators and the words of the manual's keyword list (operators, IL instructions, ADR, SIZEOF, ...) cannot name " <> what <> " (NX-LEX-12, NX-LEX-13)"
+
 -- | NX-LEX-12: the words of the manual's list that are not keywords of the
 -- grammar already (IL operators, operators named like functions).
 codesysReserved :: [Text]
@@ -250,7 +256,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   where
     staticPrefix n = "$STAT." <> key n <> "."
     selfOf p = if pouKind p `elem` [KFunctionBlock, KProgram] then Just (key (pouName p)) else Nothing
-    reservedMessage n = "'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name user declarations (TC-LEX-1, TC-LEX-3)"
+    reservedMessage n = "'" <> n <> "' is reserved: " <> reservedWhy pol "user declarations"
 
 -- | NX-VAR-14: VAR_CONFIG gives each instance's variable declared at an
 -- incomplete address (%I*, %Q*) its address, by the instance's full path;
@@ -495,7 +501,7 @@ blockVars kind b = do
 declVars :: Maybe PouKind -> Section -> Bool -> Retention -> VarDecl -> C [VarInfo]
 declVars kind sec constant retention d = do
   pol <- asks envPol
-  forM_ (vdNames d) $ \(p, n) -> when (reservedName pol n) (failC "reserved-name" p ("'" <> n <> "' is reserved: elementary types, standard functions and standard function blocks cannot name variables (TC-LEX-1, TC-LEX-3)"))
+  forM_ (vdNames d) $ \(p, n) -> when (reservedName pol n) (failC "reserved-name" p ("'" <> n <> "' is reserved: " <> reservedWhy pol "variables"))
   ty <- resolveType (vdType d)
   when (pExtensions pol == ExtensionsCodesys) $ do
     -- NX-POU-10: a function declares no FB instance (an input may take one)
