@@ -347,9 +347,10 @@ fuzzStepBudget = 20000
 fuzzPolicies :: Policies
 fuzzPolicies = mastertoolXE {pStepBudget = fuzzStepBudget}
 
--- | The IEC core's policies for fuzzing: the tecomat preset, a small budget.
-iecFuzzPolicies :: Policies
-iecFuzzPolicies = tecomat {pStepBudget = fuzzStepBudget}
+-- | The IEC core's policies for fuzzing: the tecomat and nexto presets (the
+-- nexto grammar: CODESYS extensions, pragmas, OOP), a small budget.
+iecFuzzPolicies :: [Policies]
+iecFuzzPolicies = [p {pStepBudget = fuzzStepBudget} | p <- [tecomat, nexto]]
 
 -- | Decode, parse, print, check and run (two calls) one input, a short one
 -- also as an @stref eval@ snippet; the text is
@@ -378,9 +379,10 @@ evaluateInput bytes = case decodeSource bytes of
             Right ro ->
               let codes = [fmap (\(RuntimeError c _ _) -> c) (crError r) | r <- roResults ro]
                in (Ran codes, printed <> T.pack (show (roResults ro, psMemory (roFinal ro))))
-    -- every input also goes through the IEC core (the tecomat dialect):
+    -- every input also goes through the IEC core under each IEC dialect:
     -- parse, check, two cycles
-    iecPipeline src = case runProgram iecFuzzPolicies file src ProgramsOfConfiguration 10 [] [Scan [], Scan []] of
+    iecPipeline src = T.concat [iecRun pol src | pol <- iecFuzzPolicies]
+    iecRun pol src = case runProgram pol file src ProgramsOfConfiguration 10 [] [Scan [], Scan []] of
       Left e -> veKind e <> veMessage e
       Right (Left t) -> t
       Right (Right r) -> T.pack (show (rrMachine r, fmap (\(k, StopFault p f) -> (k, p, f)) (rrError r), rrCycles r))
