@@ -30,7 +30,7 @@ import Cmd.ExploreIec (ExploreIec (..), IecMode (..), exploreIec)
 import Cmd.Iec (dialectPolicies, isIecDialect)
 import Stref.Conformance.Corpus (readListFile)
 import Stref.Conformance.Runner (EngineSpec (..), RunOptions (..), askEngine, defaultRunOptions)
-import Stref.Generate.Iec (fullSupport, keepsAType, knownFeatures, withoutFeatures)
+import Stref.Generate.Iec (codesysSupport, fullSupport, keepsAType, knownFeatures, withoutFeatures)
 import Stref.Engine (referenceEngine)
 import Stref.Explore.Run
 import Stref.Generate.Program
@@ -115,7 +115,9 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
       unknown ->
         usage ("--exclude-feature " <> T.intercalate ", " unknown <> ": the generated programs never use it; the features they can do without: " <> T.intercalate ", " knownFeatures)
           >>= exitWith
-    let support = withoutFeatures (optExcluded o ++ lacking) fullSupport
+    -- the dialect's language: the IEC core, with nexto's CODESYS extensions
+    let base = if pExtensions pol == ExtensionsCodesys then codesysSupport else fullSupport
+        support = withoutFeatures (optExcluded o ++ lacking) base
     when (not (keepsAType support)) $
       usage "the excluded features leave no type to generate programs with" >>= exitWith
     seed <- maybe (generate (choose (0, 999999))) pure (optSeed o)

@@ -56,6 +56,8 @@ expressions = concatMap stmt . gpBody
       GFor _ _ _ b -> concatMap stmt b
       GTimer i p -> expr i ++ expr p
       GCounter c -> expr c
+      GPointAt _ -> []
+      GStore e -> expr e
     expr e = e : case e of
       GBin _ _ a b -> expr a ++ expr b
       GUn _ _ a -> expr a
@@ -69,7 +71,7 @@ literalOperation = \case
   GLit {} -> False
   GVar {} -> False
   GTimerQ -> False
-  GCounterCV -> False
+  GCounterCV _ -> False
   e -> all isLiteral (leaves e)
   where
     isLiteral = \case
@@ -102,10 +104,20 @@ spec = describe "IEC.Generate: generated tecomat programs" $ do
     corpus <- loadCorpus ["conformance"]
     let tags = [f | Loaded c <- corpusEntries corpus, f <- caseFeatures c]
     [f | f <- knownFeatures, f `notElem` tags] `shouldBe` []
+  it "under nexto (codesysSupport) are accepted by its checker and run to values or a runtime error of a known kind" $
+    withMaxSuccess 200 . forAll (genProgram codesysSupport) $ \gp -> case outcome nexto gp of
+      Ran vars err -> counterexample (T.unpack (renderProgram gp)) (M.size vars == length (observedPaths (gpSupport gp)) && maybe True (`elem` knownKinds ++ ["null-pointer"]) err)
+      o -> counterexample (T.unpack (renderProgram gp) ++ "\n" ++ show o) False
+  it "under nexto use the 64-bit types, the pointer, the method and CODESYS's spelling of CTU" $ do
+    let srcs = concat [T.unpack (renderProgram (unGen (genProgram codesysSupport) (mkQCGen sd) 30)) | sd <- [1 .. 60 :: Int]]
+    [b | b <- ["LINT", "ULINT", "LWORD", "pi1^", "ADR(", "acc.Add(x :=", "RESET := FALSE"], not (b `isInfixOf` srcs)] `shouldBe` []
   it "use every part of the language when nothing is left out" $
     let srcs = concat [T.unpack (renderProgram (generatedWith s)) | s <- [1 .. 60 :: Int]]
         generatedWith s = unGen (genProgram fullSupport) (mkQCGen s) 30
-     in [b | b <- ["REAL", "LREAL", "TIME", "BYTE", "WORD", "FOR ", "CASE ", "IF ", "t(IN", "c(CU", "_TO_", "MAX(", "LIMIT(", "ABS(", "SHL(", " / ", " MOD "], not (b `isInfixOf` srcs)] `shouldBe` []
+     in do
+          [b | b <- ["REAL", "LREAL", "TIME", "BYTE", "WORD", "FOR ", "CASE ", "IF ", "t(IN", "c(CU", "_TO_", "MAX(", "LIMIT(", "ABS(", "SHL(", " / ", " MOD "], not (b `isInfixOf` srcs)] `shouldBe` []
+          -- and nothing of CODESYS's under tecomat
+          [b | b <- ["LINT", "LWORD", "POINTER", "METHOD", "RESET :="], b `isInfixOf` srcs] `shouldBe` []
   it "give the same results whether FOR evaluates its (constant) bounds once or at every test (TC-STMT-26)" $
     withMaxSuccess 100 . prop $ \gp ->
       outcome tecomat {pForBounds = ForOnce} gp === outcome tecomat {pForBounds = ForEveryIteration} gp

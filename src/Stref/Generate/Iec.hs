@@ -1,8 +1,9 @@
--- | QuickCheck generators of well-typed IEC programs (the tecomat dialect):
--- a PROGRAM MAIN with variables of the elementary types, an FB instance of
--- the standard library, and statements over them (assignments of typed
--- expressions with explicit conversions, IF, CASE, FOR with constant
--- bounds, WHILE with a counter, FB calls), run over a few cycles.
+-- | QuickCheck generators of well-typed IEC programs: a PROGRAM MAIN with
+-- variables of the elementary types, an FB instance of the standard library,
+-- and statements over them (assignments of typed expressions with explicit
+-- conversions, IF, CASE, FOR with constant bounds, FB calls), run over a few
+-- cycles. Under the CODESYS extensions (nexto, 'codesysSupport') also the
+-- 64-bit types, a pointer and a method call.
 --
 -- The programs are generated as a small tree and printed as ST, so that
 -- shrinking works on statements and expressions, not on text. What they may
@@ -14,6 +15,7 @@ module Stref.Generate.Iec
   , GExpr (..)
   , Support
   , fullSupport
+  , codesysSupport
   , withoutFeatures
   , knownFeatures
   , supportSummary
@@ -32,8 +34,13 @@ import qualified Data.Text as T
 import Test.QuickCheck
 
 -- | The types the generator uses.
-data GType = GBool | GSint | GInt | GDint | GUsint | GUint | GByte | GWord | GReal | GLreal | GTime
+data GType = GBool | GSint | GInt | GDint | GUsint | GUint | GByte | GWord | GReal | GLreal | GTime | GLint | GUlint | GLword
   deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | The types of the IEC core (tecomat); the 64-bit integers and LWORD are
+-- CODESYS's.
+coreTypes :: [GType]
+coreTypes = [GBool .. GTime]
 
 typeName :: GType -> String
 typeName = \case
@@ -48,12 +55,15 @@ typeName = \case
   GReal -> "REAL"
   GLreal -> "LREAL"
   GTime -> "TIME"
+  GLint -> "LINT"
+  GUlint -> "ULINT"
+  GLword -> "LWORD"
 
 isIntegral :: GType -> Bool
-isIntegral t = t `elem` [GSint, GInt, GDint, GUsint, GUint]
+isIntegral t = t `elem` [GSint, GInt, GDint, GUsint, GUint, GLint, GUlint]
 
 isBits :: GType -> Bool
-isBits t = t `elem` [GByte, GWord]
+isBits t = t `elem` [GByte, GWord, GLword]
 
 -- | The program's variables: two of each type, named by type.
 variables :: [(String, GType)]
@@ -71,6 +81,9 @@ variables = [(prefix t ++ show i, t) | t <- [minBound .. maxBound], i <- [1, 2 :
       GReal -> "re"
       GLreal -> "lr"
       GTime -> "tm"
+      GLint -> "li"
+      GUlint -> "uli"
+      GLword -> "lw"
 
 -- | A part of the language the generator can leave out.
 data Construct
@@ -84,23 +97,39 @@ data Construct
   | UseFunction String -- ^ a standard function
   | UseOperator String -- ^ an operator that not every engine has (/, MOD)
   | UseLiteralOperation -- ^ an operation or conversion whose operands are all literals (typed by the dialect's rules)
+  | UsePointer -- ^ CODESYS: a POINTER TO INT, set by ADR, read and written through ^
+  | UseMethod -- ^ CODESYS: a method of a user FB, called in expressions
   deriving (Eq, Ord, Show)
 
 -- | What the programs may use.
-newtype Support = Support (S.Set Construct)
+data Support = Support
+  { suCodesys :: Bool -- ^ spelt as CODESYS spells it (CTU's RESET, NX-FB-11; no negative TIME, NX-TYPE-34)
+  , suParts :: S.Set Construct
+  }
   deriving (Eq, Show)
 
 standardFunctions :: [String]
 standardFunctions = ["MAX", "MIN", "LIMIT", "ABS", "SHL", "SHR", "ROL", "ROR"]
 
+-- | The IEC core, as tecomat has it.
 fullSupport :: Support
 fullSupport =
-  Support . S.fromList $
-    map UseType [minBound .. maxBound]
+  Support False . S.fromList $
+    map UseType coreTypes
       ++ [UseIf, UseCase, UseFor, UseTimer, UseCounter, UseConversion]
       ++ map UseFunction standardFunctions
       ++ map UseOperator ["/", "MOD"]
       ++ [UseLiteralOperation]
+
+-- | The IEC core and the CODESYS extensions nexto has: 64-bit integers and
+-- LWORD, a pointer, a method.
+codesysSupport :: Support
+-- Operations of literals only are left out: an untyped literal takes the
+-- smallest type that holds it (NX-LEX-23), which the generator does not
+-- model.
+codesysSupport =
+  Support True $
+    S.delete UseLiteralOperation (suParts fullSupport) `S.union` S.fromList (map UseType [GLint, GUlint, GLword] ++ [UsePointer, UseMethod])
 
 -- | The corpus features (conformance/README.md) that name something the
 -- generator uses, and what leaving each out removes.
@@ -140,6 +169,11 @@ featureConstructs =
   , ("division", [UseOperator "/", UseOperator "MOD"])
   , ("mod", [UseOperator "MOD"])
   , ("literal-expressions", [UseLiteralOperation])
+  , ("lint", [UseType GLint])
+  , ("ulint", [UseType GUlint])
+  , ("lword", [UseType GLword])
+  , ("pointers", [UsePointer])
+  , ("methods", [UseMethod])
   ]
 
 knownFeatures :: [Text]
@@ -150,7 +184,7 @@ knownFeatures = map fst featureConstructs
 -- removed too: IF needs BOOL, CASE and FOR an INT, a timer BOOL and TIME, a
 -- counter BOOL and INT.
 withoutFeatures :: [Text] -> Support -> Support
-withoutFeatures fs (Support s) = Support (S.filter usable kept)
+withoutFeatures fs (Support codesys s) = Support codesys (S.filter usable kept)
   where
     kept = s `S.difference` S.fromList (concat [cs | (f, cs) <- featureConstructs, f `elem` fs])
     has t = UseType t `S.member` kept
@@ -160,10 +194,12 @@ withoutFeatures fs (Support s) = Support (S.filter usable kept)
       UseFor -> has GInt
       UseTimer -> has GBool && has GTime
       UseCounter -> has GBool && has GInt
+      UsePointer -> has GInt
+      UseMethod -> has GDint
       _ -> True
 
 uses :: Support -> Construct -> Bool
-uses (Support s) c = c `S.member` s
+uses su c = c `S.member` suParts su
 
 -- | Whether a program can be generated at all.
 keepsAType :: Support -> Bool
@@ -176,11 +212,11 @@ typesOf su = filter (uses su . UseType) [minBound .. maxBound]
 -- nothing is left out.
 supportSummary :: Support -> Maybe Text
 supportSummary su
-  | su == fullSupport = Nothing
+  | su `elem` [fullSupport, codesysSupport] = Nothing
   | otherwise =
       Just . T.pack $
         "types " ++ intercalate ", " (map typeName (typesOf su))
-          ++ "; statements " ++ intercalate ", " (["assignment"] ++ [n | (c, n) <- [(UseIf, "IF"), (UseCase, "CASE"), (UseFor, "FOR"), (UseTimer, "TON calls"), (UseCounter, "CTU calls")], uses su c])
+          ++ "; statements " ++ intercalate ", " (["assignment"] ++ [n | (c, n) <- [(UseIf, "IF"), (UseCase, "CASE"), (UseFor, "FOR"), (UseTimer, "TON calls"), (UseCounter, "CTU calls"), (UsePointer, "a pointer"), (UseMethod, "a method")], uses su c])
           ++ "; functions " ++ (case [f | f <- standardFunctions, uses su (UseFunction f)] ++ ["conversions" | uses su UseConversion] of [] -> "none"; fs -> intercalate ", " fs)
 
 varsOf :: GType -> [String]
@@ -194,7 +230,9 @@ data GExpr
   | GConv GType GType GExpr -- ^ to, from
   | GCall GType String [GExpr] -- ^ a standard function
   | GTimerQ -- ^ the timer's Q
-  | GCounterCV -- ^ the counter's CV
+  | GCounterCV GType -- ^ the counter's CV: an INT (TC-FB-11), a WORD under CODESYS (NX-FB-12)
+  | GDeref -- ^ @pi1^@, the INT the pointer points at
+  | GMethod GExpr -- ^ @acc.Add(x := e)@: the method adds e to the instance's total and returns it (DINT)
   deriving (Eq, Show)
 
 data GStmt
@@ -204,6 +242,8 @@ data GStmt
   | GFor Int Int Int [GStmt] -- ^ FOR kk := a TO b BY c (kk: the loop counter, not written in the body)
   | GTimer GExpr GExpr -- ^ t(IN := bool, PT := time)
   | GCounter GExpr -- ^ c(CU := bool, R := FALSE, PV := 5)
+  | GPointAt String -- ^ @pi1 := ADR(v)@, v an INT variable
+  | GStore GExpr -- ^ @pi1^ := e@
   deriving (Eq, Show)
 
 data GenProgram = GenProgram
@@ -227,6 +267,8 @@ genStmt su depth =
     [ (6, genAssign)
     , (1 `when` uses su UseTimer, GTimer <$> genExpr su 2 GBool <*> genExpr su 1 GTime)
     , (1 `when` uses su UseCounter, GCounter <$> genExpr su 2 GBool)
+    , (1 `when` uses su UsePointer, GPointAt <$> elements (varsOf GInt))
+    , (1 `when` uses su UsePointer, GStore <$> genExpr su 2 GInt)
     ]
       ++ if depth <= 0
         then []
@@ -255,7 +297,7 @@ when w ok = if ok then w else 0
 genExpr :: Support -> Int -> GType -> Gen GExpr
 genExpr su depth t = if depth <= 0 then leaf else typedByAVariable <$> frequency (filter ((> 0) . fst) (leafF ++ nodes))
   where
-    leaf = oneof [genLit t, GVar t <$> elements (varsOf t)]
+    leaf = oneof [genLit su t, GVar t <$> elements (varsOf t)]
     leafF = [(3, leaf)]
     sub = genExpr su (depth - 1)
     typed = filter (uses su . UseType)
@@ -272,7 +314,7 @@ genExpr su depth t = if depth <= 0 then leaf else typedByAVariable <$> frequency
         ]
       GTime ->
         [ (2, GBin GTime <$> elements ["+", "-"] <*> sub GTime <*> sub GTime)
-        , (1 `when` uses su (UseType GInt), GBin GTime "*" <$> sub GTime <*> genLit GInt)
+        , (1 `when` uses su (UseType GInt), GBin GTime "*" <$> sub GTime <*> genLit su GInt)
         , (1 `when` (uses su UseConversion && uses su (UseType GDint)), GConv GTime GDint <$> sub GDint)
         ]
       _
@@ -282,15 +324,18 @@ genExpr su depth t = if depth <= 0 then leaf else typedByAVariable <$> frequency
             , (1 `when` not (null shifts), do f <- elements shifts; n <- choose (0, 17 :: Int); x <- sub t; pure (GCall t f [x, GLit GInt (show n)]))
             , (1 `when` (uses su UseConversion && uses su (UseType GUsint)), GConv t GUsint <$> sub GUsint) -- t is BYTE or WORD, never USINT
             ]
+              ++ counterValue
         | otherwise ->
             [ (4, GBin t <$> elements (operators (["+", "-", "*", "/"] ++ ["MOD" | isIntegral t])) <*> sub t <*> sub t)
-            , (1 `when` (t `notElem` [GUsint, GUint]), GUn t "-" <$> sub t)
+            , (1 `when` (t `notElem` [GUsint, GUint, GUlint]), GUn t "-" <$> sub t)
             , (1 `when` not (null selections), do f <- elements selections; GCall t f <$> vectorOf 2 (sub t))
             , (1 `when` function "LIMIT", GCall t "LIMIT" <$> vectorOf 3 (sub t))
             , (1 `when` function "ABS", GCall t "ABS" . (: []) <$> sub t)
             , (2 `when` (uses su UseConversion && not (null sources)), do from <- elements sources; GConv t from <$> sub from)
-            , (1 `when` (t == GInt && uses su UseCounter), pure GCounterCV)
+            , (1 `when` (t == GInt && uses su UsePointer), pure GDeref)
+            , (1 `when` (t == GDint && uses su UseMethod), GMethod <$> sub GDint)
             ]
+              ++ counterValue
     -- without literal operations, an operation of literals only gets a
     -- variable of its type as first operand
     typedByAVariable e
@@ -302,13 +347,14 @@ genExpr su depth t = if depth <= 0 then leaf else typedByAVariable <$> frequency
           GCall rt f (a : as) | all literalsOnly (a : as) -> GCall rt f (variableLike a : as)
           _ -> e
     variableLike a = GVar (typeOf a) (head (varsOf (typeOf a)))
-    compared = typed [GSint, GInt, GDint, GUsint, GReal, GLreal, GTime, GByte]
+    counterValue = [(1 `when` (uses su UseCounter && t == (if suCodesys su then GWord else GInt)), pure (GCounterCV t))]
+    compared = typed [GSint, GInt, GDint, GUsint, GReal, GLreal, GTime, GByte, GLint]
     shifts = filter function ["SHL", "SHR", "ROL", "ROR"]
     selections = filter function ["MAX", "MIN"]
-    sources = typed (filter (/= t) ([GSint, GInt, GDint, GUsint, GUint, GReal, GLreal] ++ [GByte | isIntegral t]))
+    sources = typed (filter (/= t) ([GSint, GInt, GDint, GUsint, GUint, GReal, GLreal, GLint, GUlint] ++ [GByte | isIntegral t]))
 
-genLit :: GType -> Gen GExpr
-genLit t = GLit t <$> case t of
+genLit :: Support -> GType -> Gen GExpr
+genLit su t = GLit t <$> case t of
   GBool -> elements ["TRUE", "FALSE"]
   GSint -> show <$> elements [0, 1, 2, -1, 100, 127, -128 :: Int]
   GInt -> show <$> elements [0, 1, 3, -7, 1000, 32767, -32768 :: Int]
@@ -319,7 +365,10 @@ genLit t = GLit t <$> case t of
   GWord -> elements ["16#0000", "16#FFFF", "16#00F0", "16#8001"]
   GReal -> elements ["0.0", "1.5", "-2.25", "0.1", "3.4E38", "1.0E-3"]
   GLreal -> elements ["0.0", "2.5", "-0.1", "1.0E300", "7.0"]
-  GTime -> elements ["T#0ms", "T#10ms", "T#1s", "T#-5ms", "T#24d"]
+  GTime -> elements (["T#0ms", "T#10ms", "T#1s", "T#24d"] ++ ["T#-5ms" | not (suCodesys su)])
+  GLint -> show <$> elements [0, 1, -3, 4294967296, 9223372036854775807, -9223372036854775808 :: Integer]
+  GUlint -> show <$> elements [0, 1, 4294967296, 18446744073709551615 :: Integer]
+  GLword -> elements ["16#0000000000000000", "16#FFFFFFFFFFFFFFFF", "16#00000000FFFFFFFF", "16#8000000000000001"]
 
 -- | Smaller programs: fewer statements, simpler statements and expressions.
 shrinkProgram :: GenProgram -> [GenProgram]
@@ -335,6 +384,8 @@ shrinkStmt = \case
   GFor a b c body -> body ++ [GFor a b c body' | body' <- shrinkList shrinkStmt body]
   GTimer i p -> [GTimer i' p | i' <- shrinkExpr i]
   GCounter c -> [GCounter c' | c' <- shrinkExpr c]
+  GPointAt _ -> []
+  GStore e -> [GStore e' | e' <- shrinkExpr e]
 
 shrinkExpr :: GExpr -> [GExpr]
 shrinkExpr = \case
@@ -343,6 +394,8 @@ shrinkExpr = \case
   GConv t _ _ -> [GLit t (zeroOf t)]
   GCall t _ as -> [a | a <- as, typeOf a == t]
   GVar t _ -> [GLit t (zeroOf t)]
+  GMethod a -> [a]
+  GDeref -> [GLit GInt "0"]
   _ -> []
 
 -- | An expression without a variable: its type is decided by the dialect's
@@ -356,7 +409,9 @@ literalsOnly = \case
   GConv _ _ a -> literalsOnly a
   GCall _ _ as -> all literalsOnly as
   GTimerQ -> False
-  GCounterCV -> False
+  GCounterCV _ -> False
+  GDeref -> False
+  GMethod _ -> False
 
 typeOf :: GExpr -> GType
 typeOf = \case
@@ -367,7 +422,9 @@ typeOf = \case
   GConv t _ _ -> t
   GCall t _ _ -> t
   GTimerQ -> GBool
-  GCounterCV -> GInt
+  GCounterCV t -> t
+  GDeref -> GInt
+  GMethod _ -> GDint
 
 zeroOf :: GType -> String
 zeroOf = \case
@@ -377,6 +434,7 @@ zeroOf = \case
   GTime -> "T#0ms"
   GByte -> "16#00"
   GWord -> "16#0000"
+  GLword -> "16#0000000000000000"
   _ -> "0"
 
 -- | The program as ST source.
@@ -398,6 +456,10 @@ usedNames = concatMap stmtNames
       GFor _ _ _ b -> "kk" : concatMap stmtNames b
       GTimer i p -> "t" : exprNames i ++ exprNames p
       GCounter cu -> "c" : exprNames cu
+      GPointAt v -> ["pi1", v]
+      GStore e -> pointer ++ exprNames e
+    -- the pointer's first target is i1 (the prelude)
+    pointer = ["pi1", "i1"]
     exprNames = \case
       GVar _ v -> [v]
       GBin _ _ a b -> exprNames a ++ exprNames b
@@ -405,18 +467,39 @@ usedNames = concatMap stmtNames
       GConv _ _ a -> exprNames a
       GCall _ _ as -> concatMap exprNames as
       GTimerQ -> ["t"]
-      GCounterCV -> ["c"]
+      GCounterCV _ -> ["c"]
+      GDeref -> pointer
+      GMethod a -> "acc" : exprNames a
       GLit {} -> []
 
 renderWith :: (String -> Bool) -> GenProgram -> Text
 renderWith declared (GenProgram su body _) =
   T.pack . unlines $
-    ["PROGRAM MAIN", "VAR"]
+    (if has "acc" then accumulator else [])
+      ++ ["PROGRAM MAIN", "VAR"]
       ++ ["  " ++ n ++ " : " ++ ty ++ ";" | (n, ty) <- declarations su, declared n]
       ++ ["END_VAR"]
+      -- the pointer points at i1 until a statement points it elsewhere
+      ++ ["pi1 := ADR(i1);" | has "pi1"]
       ++ concatMap (stmt 0) body
       ++ ["END_PROGRAM"]
   where
+    has n = declared n && n `elem` map fst (declarations su)
+    accumulator =
+      [ "FUNCTION_BLOCK Accumulator"
+      , "VAR"
+      , "  total : DINT;"
+      , "END_VAR"
+      , "METHOD Add : DINT"
+      , "VAR_INPUT"
+      , "  x : DINT;"
+      , "END_VAR"
+      , "total := total + x;"
+      , "Add := total;"
+      , "END_METHOD"
+      , "END_FUNCTION_BLOCK"
+      , ""
+      ]
     ind d = replicate (2 * d) ' '
     stmt d = \case
       GAssign v e -> [ind d ++ v ++ " := " ++ expr e ++ ";"]
@@ -428,7 +511,9 @@ renderWith declared (GenProgram su body _) =
           ++ [ind d ++ "END_CASE;"]
       GFor a b c body' -> [ind d ++ "FOR kk := " ++ show a ++ " TO " ++ show b ++ (if c == 1 then "" else " BY " ++ show c) ++ " DO"] ++ concatMap (stmt (d + 1)) body' ++ [ind d ++ "END_FOR;"]
       GTimer i p -> [ind d ++ "t(IN := " ++ expr i ++ ", PT := " ++ expr p ++ ");"]
-      GCounter cu -> [ind d ++ "c(CU := " ++ expr cu ++ ", R := FALSE, PV := 5);"]
+      GCounter cu -> [ind d ++ "c(CU := " ++ expr cu ++ ", " ++ (if suCodesys su then "RESET" else "R") ++ " := FALSE, PV := 5);"]
+      GPointAt v -> [ind d ++ "pi1 := ADR(" ++ v ++ ");"]
+      GStore e -> [ind d ++ "pi1^ := " ++ expr e ++ ";"]
     expr = \case
       GLit _ s -> s
       GVar _ v -> v
@@ -437,7 +522,9 @@ renderWith declared (GenProgram su body _) =
       GConv to from a -> typeName from ++ "_TO_" ++ typeName to ++ "(" ++ expr a ++ ")"
       GCall _ f as -> f ++ "(" ++ intercalate ", " (map expr as) ++ ")"
       GTimerQ -> "t.Q"
-      GCounterCV -> "c.CV"
+      GCounterCV _ -> "c.CV"
+      GDeref -> "pi1^"
+      GMethod a -> "acc.Add(x := " ++ expr a ++ ")"
 
 -- | Every variable the program has, as corpus paths.
 observedPaths :: Support -> [Text]
@@ -446,6 +533,10 @@ observedPaths su = concat [paths n ty | (n, ty) <- declarations su]
     paths n = \case
       "TON" -> ["MAIN." <> T.pack n <> ".Q", "MAIN." <> T.pack n <> ".ET"]
       "CTU" -> ["MAIN." <> T.pack n <> ".CV"]
+      "Accumulator" -> ["MAIN." <> T.pack n <> ".total"]
+      -- an address is where the engine put the variable: what it points
+      -- at is observed instead
+      "POINTER TO INT" -> []
       _ -> ["MAIN." <> T.pack n]
 
 -- | The variables a program of this support declares, with their types.
@@ -455,3 +546,5 @@ declarations su =
     ++ [("kk", "INT") | uses su UseFor]
     ++ [("t", "TON") | uses su UseTimer]
     ++ [("c", "CTU") | uses su UseCounter]
+    ++ [("pi1", "POINTER TO INT") | uses su UsePointer]
+    ++ [("acc", "Accumulator") | uses su UseMethod]
