@@ -245,6 +245,9 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prInstances = instances
       , prRoots = programRoots
       , prTaskInterval = interval
+      , prPeriods = case configs of
+          (c : _) -> M.fromList [(key (pcInstance pc), ms) | pc <- orderedPrograms c, Just ms <- [periodOf c pc]]
+          [] -> M.empty
       , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
       , prGlobalInits = globalInits
       , prGlobalInitArgs = globalInitArgs
@@ -305,15 +308,27 @@ checkVarConfig pous varsOf roots entries = do
 -- | TC-CFG-11: the programs of each task in the order of their association;
 -- tasks by their Number property (the Tecomat process number), programs
 -- without a task last.
+-- | The programs in the order they run when their tasks are due together:
+-- by the task's Number (Tecomat's process, TC-CFG-8), then its PRIORITY
+-- (lower first: the IEC task model, TC-CFG-9 and NX-TASK-1 being silent),
+-- then the order of association (TC-CFG-11); a program without a task last.
 orderedPrograms :: Configuration -> [ProgramConfig]
 orderedPrograms c =
   let assoc = [(r, pc) | r <- cfgResources c, pc <- resPrograms r]
-      taskNumber r pc = case pcTask pc of
+      property name r pc = case pcTask pc of
         Nothing -> 2 ^ (62 :: Int) :: Integer
         Just t -> case find ((== key t) . key . taskName) (resTasks r) of
-          Just tk -> fromMaybe 0 (lookup "NUMBER" [(key k, n) | (k, ELit _ (LInt n)) <- taskProps tk])
+          Just tk -> fromMaybe 0 (lookup name [(key k, n) | (k, ELit _ (LInt n)) <- taskProps tk])
           Nothing -> 0
-   in [pc | (_, (_, pc)) <- sortOn (\(i, (r, pc)) -> (taskNumber r pc, i)) (zip [0 :: Int ..] assoc)]
+   in [pc | (_, (_, pc)) <- sortOn (\(i, (r, pc)) -> (property "NUMBER" r pc, property "PRIORITY" r pc, i)) (zip [0 :: Int ..] assoc)]
+
+-- | The INTERVAL of a program's task, in milliseconds, when it states one.
+periodOf :: Configuration -> ProgramConfig -> Maybe Integer
+periodOf c pc = do
+  t <- pcTask pc
+  tk <- find ((== key t) . key . taskName) [tk | r <- cfgResources c, tk <- resTasks r]
+  ns <- lookup "INTERVAL" [(key k, ns) | (k, ELit _ (LTime ns)) <- taskProps tk]
+  pure (ns `div` 1000000)
 
 taskInterval :: Configuration -> Maybe Integer
 taskInterval c =

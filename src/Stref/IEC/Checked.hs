@@ -42,6 +42,7 @@ data Program = Program
   , prRoots :: [(Text, Text)] -- ^ every program's instance (those the tasks run, and those only called): instance name, type key
   , prInstances :: [(Text, Text)] -- ^ program instances run each cycle, in order: instance name, program type key
   , prTaskInterval :: Maybe Integer -- ^ the interval of the configuration's task, milliseconds, if it states one
+  , prPeriods :: Map Text Integer -- ^ the program instances of periodic tasks, by key: their task's INTERVAL in milliseconds (TC-CFG-9, NX-TASK-1)
   , prGvls :: Map Text (Map Text Text) -- ^ CODESYS: each named global list's variables, by key, and where each is stored (NX-VAR-35)
   , prGlobalInits :: [(Text, Type, CExpr)] -- ^ CODESYS: the globals' initial values that are not constants, in the order the lists initialise (NX-VAR-26, NX-VAR-27)
   , prGlobalInitArgs :: Map Text [(Text, CExpr)] -- ^ CODESYS: the FB_Init inputs of global instances (NX-POU-35)

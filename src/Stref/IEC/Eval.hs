@@ -231,7 +231,13 @@ runCycle pol prog clock m0 =
   let inputs m1 = foldl (\acc (_, steps, l, t) -> fromMaybe acc (writeVariablePath prog acc steps (readLocated (prTimeRange prog) l t (mMemory acc)))) m1 [c | c@('I', _, _, _) <- prVarConfig prog]
       outputs m1 = foldl (\acc (_, steps, l, t) -> maybe acc (\(v, _) -> acc {mMemory = writeLocated l t v (mMemory acc)}) (readVariablePath prog acc steps)) m1 [c | c@('Q', _, _, _) <- prVarConfig prog]
       m = inputs m0 {mClock = clock, mSteps = 0, mFrames = M.empty}
-      run = forM_ (prInstances prog) $ \(inst, t) -> case lookupPou prog t of
+      -- TC-CFG-9, NX-TASK-1 (open: the IEC task model): a periodic task's
+      -- programs run in the cycle where its interval comes round on the
+      -- virtual clock (at 0, I, 2I, ...); the others in every cycle
+      due inst = case M.lookup (key inst) (prPeriods prog) of
+        Just period | period > 0 -> clock == 0 || clock `div` period > mClock m0 `div` period
+        _ -> True
+      run = forM_ [(inst, t) | (inst, t) <- prInstances prog, due inst] $ \(inst, t) -> case lookupPou prog t of
         Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
       ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
