@@ -133,11 +133,13 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   let topNames = [(tdPos t, tdName t) | t <- typeDecls] ++ [(pouPos p, pouName p) | p <- pous]
   forM_ topNames $ \(p, n) -> when (reservedName pol n) (throwError (VerificationError "reserved-name" p (reservedMessage n)))
   checkDuplicates topNames
-  -- NX-PRAGMA-11: pack_mode takes 0, 1, 2, 4 or 8
-  packModes <- fmap M.fromList . forM [(t, v) | t <- typeDecls, Just v <- [attributeValue "pack_mode" (tdAttributes t)]] $ \(t, v) ->
+  -- NX-PRAGMA-11: pack_mode takes 0, 1, 2, 4 or 8, on a type or a POU
+  let packed = [(tdPos t, tdName t, v) | t <- typeDecls, Just v <- [attributeValue "pack_mode" (tdAttributes t)]]
+        ++ [(pouPos p, pouName p, v) | p <- pous, Just v <- [attributeValue "pack_mode" (pouAttributes p)]]
+  packModes <- fmap M.fromList . forM packed $ \(at, n, v) ->
     case readMaybeInt v of
-      Just n | n `elem` [0, 1, 2, 4, 8] -> pure (key (tdName t), n)
-      _ -> throwError (VerificationError "value-out-of-limits" (tdPos t) ("pack_mode is 0, 1, 2, 4 or 8, not '" <> v <> "' (NX-PRAGMA-11)"))
+      Just m | m `elem` [0, 1, 2, 4, 8] -> pure (key n, m)
+      _ -> throwError (VerificationError "value-out-of-limits" at ("pack_mode is 0, 1, 2, 4 or 8, not '" <> v <> "' (NX-PRAGMA-11)"))
   checkRecursion True pous globalBlocks -- before instances are built from their declarations
   let envBase =
         Env

@@ -70,16 +70,16 @@ sizeAlign ly = \case
   TEnum _ _ -> (2, 2)
   TNumEnum _ e _ -> let n = elemSize e in (n, n)
   TSubrange e _ _ -> let n = elemSize e in (n, n)
-  TUnion _ fs ->
+  TUnion n fs ->
     let sas = map (sizeAlign ly . snd) fs
-        al = maximum (1 : map snd sas)
+        al = packAlign (lyPack ly (T.toUpper n)) (maximum (1 : map snd sas))
      in (alignUp al (maximum (0 : map fst sas)), al)
-  TFB n -> record (map snd (lyMembers ly n))
-  TProgram n -> record (map snd (lyMembers ly n))
+  -- NX-PRAGMA-11: a POU may be packed too (L4562-4564)
+  TFB n -> packed (lyPack ly (T.toUpper n)) (map snd (lyMembers ly n))
+  TProgram n -> packed (lyPack ly (T.toUpper n)) (map snd (lyMembers ly n))
   TPointer _ -> (4, 4)
   TNamed _ -> (0, 1) -- never stored: only a pointer's target
   where
-    record = packed Nothing
     packed pack ts =
       let (end, al) = foldl (\(off, a) t -> let ta = packAlign pack (snd (sizeAlign ly t)) in (alignUp ta off + fst (sizeAlign ly t), max a ta)) (0, 1) ts
        in (alignUp al end, al)
@@ -114,8 +114,8 @@ members ly t = case t of
 members' :: Layout -> Type -> Maybe [(Text, Type, Integer)]
 members' ly t = case t of
   TStruct n fs -> Just (place (lyPack ly (T.toUpper n)) [(T.toUpper k, ft) | (k, ft) <- fs])
-  TFB n -> Just (place Nothing (lyMembers ly n))
-  TProgram n -> Just (place Nothing (lyMembers ly n))
+  TFB n -> Just (place (lyPack ly (T.toUpper n)) (lyMembers ly n))
+  TProgram n -> Just (place (lyPack ly (T.toUpper n)) (lyMembers ly n))
   _ -> Nothing
   where
     place pack fs = reverse (snd (foldl (step pack) (0, []) fs))
