@@ -31,6 +31,8 @@ import qualified Data.Text.IO as TIO
 import System.Exit
 import System.IO (stderr)
 import Stref.Conformance.Protocol (Scalar (..))
+import Stref.Values (realFromBits)
+import Numeric (showHex)
 import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
 import Stref.IEC.Checked
 import Stref.IEC.Engine
@@ -281,7 +283,8 @@ scalarText = \case
   SBool b -> if b then "TRUE" else "FALSE"
   SText t -> t
   SNaN -> "NaN"
-  SBits w -> T.pack (show w)
+  -- a REAL infinity, -0.0 or NaN with a payload, as its value and pattern
+  SBits w -> T.pack (show (realFromBits w)) <> " (16#" <> T.toUpper (T.pack (showHex w "")) <> ")"
   SList xs -> "[" <> T.intercalate ", " (map scalarText xs) <> "]"
   SMap fs -> "(" <> T.intercalate ", " [k <> " := " <> scalarText v | (k, v) <- M.toList fs] <> ")"
 

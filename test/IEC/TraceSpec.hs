@@ -77,6 +77,18 @@ spec = describe "IEC.Trace" $ do
       traced False tecomat {pForBounds = ForOnce} accumulate 1 `shouldSatisfy` (`has` "evaluated once, before the first test (for-bounds=once)")
     it "marks each cycle" $
       filter (== "cycle 2") (traced False tecomat accumulate 2) `shouldBe` ["cycle 2"]
+  describe "REAL and TIME arithmetic" $ do
+    -- 3.0E38 * 10 = 3E39 > 3.4028235E38, the largest REAL; T#24d + T#24d = 4147200000 ms >
+    -- 2^31 - 1 (signed, TC-TYPE-19), < 2^32 - 1 (unsigned, NX-TYPE-30)
+    let realTime = "PROGRAM MAIN\nVAR big : REAL := 3.0E38; zz : REAL; tt : TIME := T#24d; END_VAR\nbig := big * 10.0;\nzz := 1.0 / 0.0;\ntt := tt + T#24d;\nEND_PROGRAM\n"
+    it "an infinite REAL result of finite operands is the real-overflow decision (TC-OP-26)" $ do
+      traced False tecomat {pRealOverflow = RealOverflowIeee} realTime 1 `shouldSatisfy` (`has` "rule TC-OP-26: 3.0e38 * 10.0 leaves the range of REAL: the result is Infinity (real-overflow=ieee)")
+      traced False tecomat {pRealOverflow = RealOverflowSaturate} realTime 1 `shouldSatisfy` (`has` "the result is 3.4028235e38 (real-overflow=saturate)")
+    it "a REAL division by zero is the real-div-zero decision (TC-OP-22)" $
+      traced False tecomat {pRealDivZero = RealDivZeroIeee} realTime 1 `shouldSatisfy` (`has` "rule TC-OP-22, TC-OP-26: 1.0 / 0.0: division by zero gives Infinity (real-div-zero=ieee)")
+    it "a duration outside TIME's range is the overflow decision over the time range (TC-OP-49, TC-TYPE-19)" $ do
+      traced False tecomat {pOverflow = Saturate} realTime 1 `shouldSatisfy` (`has` "T#24d + T#24d lies outside TIME (time-range=signed): the result is T#24d20h31m23s647ms (overflow=saturate)")
+      traced False tecomat {pTimeRange = TimeUnsigned} realTime 1 `shouldNotSatisfy` (`has` "T#24d + T#24d lies outside")
   describe "long loops" $ do
     it "show their first 3 iterations, then a count" $ do
       let t = traced False tecomat counting 1

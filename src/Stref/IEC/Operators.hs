@@ -188,14 +188,39 @@ binaryWhy :: Policies -> BinOp -> Value -> Value -> (Either Fault Value, [Decisi
 binaryWhy p BPow a b = (power p a b, [])
 binaryWhy p op a b = case (a, b) of
   (VInt e x, VInt e' y) | e == e' -> intBinary p op e x y
-  (VReal x, VReal y) -> plain (realBinary p VReal op x y)
-  (VLReal x, VLReal y) -> plain (realBinary p VLReal op x y)
+  (VReal x, VReal y) -> realWhy (realBinary p VReal op x y) x y
+  (VLReal x, VLReal y) -> realWhy (realBinary p VLReal op x y) x y
   (VBool x, VBool y) -> plain (boolBinary op x y)
   (VString x, VString y) -> plain (stringBinary op x y)
   (VEnum t x, VEnum t' y) | T.toUpper t == T.toUpper t' -> plain (enumBinary op x y)
-  _ -> plain (timeBinary p op a b)
+  _ -> timeWhy (timeBinary p op a b)
   where
     plain r = (r, [])
+    expression :: Show n => n -> n -> Text
+    expression x y = T.pack (show x) <> " " <> binOpSymbol op <> " " <> T.pack (show y)
+    outcome = either (const "a runtime error") (\v -> "the result is " <> renderValue v)
+    -- the decisions of REAL arithmetic: an infinite result of finite
+    -- operands (TC-OP-26, real-overflow), a division by zero (TC-OP-22,
+    -- real-div-zero)
+    realWhy r x y
+      | op == BDiv, y == 0 = (r, [ruled ["TC-OP-22", "TC-OP-26", "NX-ERR-10"] "real-div-zero" (expression x y <> ": division by zero gives " <> either (const "a runtime error") renderValue r)])
+      | op `elem` [BAdd, BSub, BMul, BDiv], finite x, finite y, isInfinite (arith x y) =
+          (r, [ruled ["TC-OP-26"] "real-overflow" (expression x y <> " leaves the range of " <> describe a <> ": " <> outcome r)])
+      | otherwise = (r, [])
+    arith x y = case op of
+      BAdd -> x + y
+      BSub -> x - y
+      BMul -> x * y
+      _ -> x / y
+    -- a duration's sum or difference outside its range: the overflow
+    -- policy over the range time-range gives (TC-OP-49, TC-OP-52,
+    -- TC-TYPE-19, NX-TYPE-30, NX-TYPE-34)
+    timeWhy r = case (a, b) of
+      (VTime e x, VTime e' y)
+        | e == e', op `elem` [BAdd, BSub], let n = if op == BAdd then x + y else x - y, not (fitsUnder p e n) ->
+            (r, [ruled ["TC-OP-49", "TC-OP-52", "TC-TYPE-19", "NX-TYPE-30", "NX-TYPE-34"] "overflow" (renderValue a <> " " <> binOpSymbol op <> " " <> renderValue b <> " lies outside " <> elemName e <> " (time-range=" <> timeRangeName <> "): " <> outcome r)])
+      _ -> plain r
+    timeRangeName = if pTimeRange p == TimeUnsigned then "unsigned" else "signed"
 
 -- | Integers (ANY_INT) and bit strings (ANY_BIT without BOOL).
 intBinary :: Policies -> BinOp -> Elem -> Integer -> Integer -> (Either Fault Value, [Decision])
