@@ -38,7 +38,7 @@ import Numeric (showHex)
 import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, isConversionName, truncTo)
-import Stref.IEC.Memory (Layout (..), frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
+import Stref.IEC.Memory (Layout (..), areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, noFBs, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binaryWhy, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
@@ -309,6 +309,7 @@ pathName :: M.Map Text Text -> RefPath -> Text
 pathName names (RefPath root steps) = case root of
   RootGlobal k -> named k <> T.concat (map stepText steps)
   RootLocated t -> t <> T.concat (map stepText steps)
+  RootBytes area a _ -> "%" <> T.singleton area <> "B" <> T.pack (show a) <> T.concat (map stepText steps)
   RootProgram k | null steps -> k
   _ -> T.drop 1 (T.concat (map stepText steps))
   where
@@ -781,6 +782,10 @@ eval ce = case ceNode ce of
       _ -> pure r
   CCall f ins inouts outs -> callFunction (cePos ce) f ins inouts outs
   CMethod d r ins inouts outs -> callMethod (cePos ce) d r ins inouts outs
+  -- a located variable's address: its area's base and its byte
+  CAddressOf (CLocated l t) ->
+    let (area, a, _, _) = placeOf l t
+     in maybe (fault (cePos ce) (Fault "null-pointer" "this direct address has no address a pointer can hold")) (pure . VInt DWORD . (+ a)) (areaBase area)
   CAddressOf r -> do
     path <- refPath (cePos ce) r
     a <- addressOf path
@@ -1011,6 +1016,7 @@ rootValue r m = case r of
   RootProgram k -> M.lookup k (mPrograms m)
   RootFrame d -> M.lookup d (mFrames m)
   RootLocated _ -> Nothing
+  RootBytes area a t -> Just (decode t [fromInteger (M.findWithDefault 0 (area, a + i) (mMemory m)) | i <- [0 .. sizeInBytes noFBs t - 1]])
 
 setRoot :: Root -> Value -> Machine -> Machine
 setRoot r v m = case r of
@@ -1018,6 +1024,7 @@ setRoot r v m = case r of
   RootProgram k -> m {mPrograms = M.insert k v (mPrograms m)}
   RootFrame d -> m {mFrames = M.insert d v (mFrames m)}
   RootLocated _ -> m
+  RootBytes area a t -> m {mMemory = foldl (\mem (i, byte) -> M.insert (area, a + i) (toInteger byte) mem) (mMemory m) (zip [0 ..] (encode t v))}
 
 getPath :: RefPath -> Eval Value
 getPath path = getPathOr path (VBool False)
@@ -1089,7 +1096,9 @@ addressOf (RefPath r steps) = do
   prog <- asks cxProgram
   rs <- roots
   pure $ do
-    (_, t, base) <- find (\(r', _, _) -> r' == r) rs
+    (t, base) <- case r of
+      RootBytes area a t -> (t,) . (+ a) <$> areaBase area
+      _ -> (\(_, t, base) -> (t, base)) <$> find (\(r', _, _) -> r' == r) rs
     (off, _) <- offsetOf (layoutOf prog) t steps
     pure (base + off)
 
@@ -1100,9 +1109,12 @@ variableAt a t = do
   prog <- asks cxProgram
   rs <- roots
   let ly = layoutOf prog
-  pure $ do
-    (r, rt, base) <- find (\(_, rt, base) -> a >= base && a < base + max 1 (sizeInBytes ly rt)) rs
-    RefPath r <$> locate ly rt (a - base) t
+  pure $ case areaAt a of
+    -- in a direct-address area: its bytes, read as the pointer's type
+    Just (area, byte) -> Just (RefPath (RootBytes area byte t) [])
+    Nothing -> do
+      (r, rt, base) <- find (\(_, rt, base) -> a >= base && a < base + max 1 (sizeInBytes ly rt)) rs
+      RefPath r <$> locate ly rt (a - base) t
 
 ------------------------------------------------------------------------------
 -- Located variables (TC-ADDR-*): bytes of the areas I (= X), Q (= Y), M (=

@@ -31,6 +31,9 @@ module Stref.IEC.Memory
   , globalsBase
   , programsBase
   , frameBase
+  , areaBase
+  , areaAt
+  , noFBs
   , frameSpan
   , placeAll
   , encode
@@ -177,6 +180,22 @@ frameSpan = 0x01000000
 
 frameBase :: Int -> Integer
 frameBase d = 0x80000000 + toInteger d * frameSpan
+
+-- | The direct-address areas' bytes lie from 16#2000_0000 (%I), 16#2400_0000
+-- (%Q) and 16#2800_0000 (%M), byte n of an area at its base + n, so that
+-- ADR of a located variable is an address a pointer can follow.
+areaBase :: Char -> Maybe Integer
+areaBase = \case
+  'I' -> Just 0x20000000
+  'Q' -> Just 0x24000000
+  'M' -> Just 0x28000000
+  _ -> Nothing
+
+-- | The area and byte an address of 'areaBase' names.
+areaAt :: Integer -> Maybe (Char, Integer)
+areaAt a = case [(c, a - b) | c <- "IQM", Just b <- [areaBase c], a >= b, a < b + 0x04000000] of
+  found : _ -> Just found
+  [] -> Nothing
 
 -- | Variables laid out one after the other from a base: each with its
 -- address.

@@ -62,6 +62,9 @@ data Root
   | RootProgram !Text -- ^ a program instance
   | RootFrame !Int -- ^ the frame of a function call, by depth
   | RootLocated !Text -- ^ a direct address
+  | RootBytes !Char !Integer !Type
+  -- ^ CODESYS: what a pointer into a direct-address area reaches: the bytes
+  -- of area I, Q or M from a byte address, read as a type (NX-TYPE-75)
   deriving (Eq, Ord, Show)
 
 data Step
