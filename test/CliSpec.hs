@@ -288,13 +288,18 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` ("tecomat" `isInfixOf`)
 
-  describe "check, rule ids" $
+  describe "check, rule ids" $ do
     it "a reserved name cites the rules of the dialect's own catalogue (NX-LEX-12 under nexto, TC-LEX-3 under tecomat)" $ do
       (code, _, err) <- stref ["check", "--dialect", "nexto", fixture "nexto-reserved.st"]
       code `shouldBe` ExitFailure 1
       err `shouldSatisfy` ("(NX-LEX-12, NX-LEX-13) [reserved-name]" `isInfixOf`)
       (_, _, errT) <- stref ["check", "--dialect", "tecomat", fixture "nexto-reserved.st"]
       errT `shouldSatisfy` ("(TC-LEX-1, TC-LEX-3) [reserved-name]" `isInfixOf`)
+    it "a type mismatch cites the conversion rules of the dialect's catalogue (NX-CONV-1 under nexto, TC-CONV-1 under tecomat)" $ do
+      (_, _, errN) <- stref ["check", "--dialect", "nexto", fixture "narrowing.st"]
+      errN `shouldSatisfy` ("convert it explicitly (NX-CONV-1, NX-CONV-2) [type-mismatch]" `isInfixOf`)
+      (_, _, errT) <- stref ["check", "--dialect", "tecomat", fixture "narrowing.st"]
+      errT `shouldSatisfy` ("convert it explicitly (TC-CONV-1, TC-CONV-3) [type-mismatch]" `isInfixOf`)
 
   describe "run" $ do
     it "says on each call's line when the call leaves INTERNAL_OVERFLOW set (MT-OP-7)" $ do

@@ -6,6 +6,8 @@
 -- code asks which dialect it is running.
 module Stref.Policy
   ( Policies (..)
+  , citedIds
+  , citing
   , Overflow (..)
   , ArithWidth (..)
   , DivZero (..)
@@ -590,3 +592,15 @@ alternativesOf name p = case lookupPolicy name of
   Just info
     | null (piAlternatives info) -> Left ("policy '" <> name <> "' is numeric; it has no list of alternatives")
     | otherwise -> traverse (\a -> (a,) <$> setPolicy name a p) (piAlternatives info)
+
+-- | The rule ids cited under these policies: those of the dialect's
+-- catalogue ('pCatalogue'), or all of them when it has none; a message or a
+-- trace names the rule as its reader's catalogue numbers it.
+citedIds :: Policies -> [Text] -> [Text]
+citedIds pol ids = case filter ((pCatalogue pol <> "-") `T.isPrefixOf`) ids of
+  [] -> ids
+  mine -> mine
+
+-- | A message's citation of rules, @(TC-CONV-1, TC-CONV-3)@.
+citing :: Policies -> [Text] -> Text
+citing pol ids = "(" <> T.intercalate ", " (citedIds pol ids) <> ")"

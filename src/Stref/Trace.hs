@@ -38,7 +38,7 @@ import Data.Maybe (fromMaybe)
 import Data.Text (Text)
 import qualified Data.Text as T
 import qualified Data.Text.Encoding as TE
-import Stref.Policy (Policies (..), policyAssignments)
+import Stref.Policy (Policies (..), policyAssignments, citedIds)
 
 -- | A point where a catalogue rule decided an outcome: its id, the policy
 -- whose alternative was in force there (if a policy decided), and what it
@@ -61,9 +61,7 @@ ruled rules policy = Decision rules (Just policy)
 -- | The ids a trace under these policies cites: those of the dialect's
 -- catalogue ('pCatalogue'), or all when it has none of them.
 citedRules :: Policies -> Decision -> [Text]
-citedRules pol d = case filter ((pCatalogue pol <> "-") `T.isPrefixOf`) (dRules d) of
-  [] -> dRules d
-  mine -> mine
+citedRules pol d = citedIds pol (dRules d)
 
 -- | What an evaluator emits, in the order it happens. Lines are source
 -- lines; values are already rendered as the dialect writes them.

@@ -1397,10 +1397,10 @@ lookupName _ n = do
       refOf r v = maybe r (\l -> CLocated l (viType v)) (viAt v)
       localAccess v
         | viSection v == SecInput && pFBAccess pol == AccessIec = ReadOnly ("the input " <> viName v <> " is read-only inside its own POU (TC-VAR-1)")
-        | viConstant v = ReadOnly ("the CONSTANT " <> viName v <> " cannot be written (TC-VAR-18)")
+        | viConstant v = ReadOnly ("the CONSTANT " <> viName v <> " cannot be written " <> citing pol ["TC-VAR-18", "NX-VAR-16"])
         | otherwise = Writable
       globalAccess g
-        | viConstant g = ReadOnly ("the CONSTANT " <> viName g <> " cannot be written (TC-VAR-18)")
+        | viConstant g = ReadOnly ("the CONSTANT " <> viName g <> " cannot be written " <> citing pol ["TC-VAR-18", "NX-VAR-16"])
         | otherwise = Writable
       loc = M.lookup k locals >>= asLocal
       inst = (\v -> (CInstance k, viType v, globalAccess v)) <$> M.lookup k instanceVars
@@ -1476,7 +1476,7 @@ assignable t ce
       pol <- asks envPol
       case (baseElem (ceType ce), baseElem t) of
         (Just from, Just to) | implicitAllowed (pImplicitConversions pol) from to -> pure (CExpr (cePos ce) t (CConvert t ce))
-        _ -> failC "type-mismatch" (cePos ce) ("a value of type " <> typeText (ceType ce) <> " where " <> typeText t <> " is expected; convert it explicitly (TC-CONV-1, TC-CONV-3)")
+        _ -> failC "type-mismatch" (cePos ce) ("a value of type " <> typeText (ceType ce) <> " where " <> typeText t <> " is expected; convert it explicitly " <> citing pol ["TC-CONV-1", "TC-CONV-3", "NX-CONV-1", "NX-CONV-2"])
 
 -- | NX-TYPE-75, NX-TYPE-78: an address is a DWORD: any pointer, or a
 -- DWORD, may be stored in a pointer, and a pointer in a DWORD.

@@ -23,7 +23,7 @@ import qualified Data.Text as T
 import Stref.IEC.Pragma (preprocessWith)
 import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (..))
-import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..))
+import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..), citing)
 import Stref.Verification (VerificationError (..))
 import Text.Megaparsec hiding (Pos)
 import Text.Megaparsec.Char (char, string, string')
@@ -252,7 +252,7 @@ identifier pol = lexeme pol $ do
       | T.any (\x -> isAlpha x && not (isAscii x)) w ->
           invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only (TC-LEX-12)")
       | "__" `T.isInfixOf` w ->
-          invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed (TC-LEX-14)")
+          invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed " <> citing pol ["TC-LEX-14", "NX-LEX-4"])
       | T.toUpper w `Set.member` keywordsOf pol -> empty <?> "a name"
       | otherwise -> do
           _ <- takeP Nothing (T.length w)
