@@ -9,6 +9,7 @@ import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy.Char8 as BL
+import Control.Exception (evaluate)
 import Control.Monad (unless)
 import Data.Char (isDigit)
 import Data.Containers.ListUtils (nubOrd)
@@ -117,6 +118,8 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
               case variants pol of
                 Left msg -> usageError "run" msg
                 Right [] -> runIec pol (optFile o) src ro
+                Right _ | traceRequest (optTrace o) /= Nothing || not (null (watchTable (optTrace o))) ->
+                  usageError "run" "--compare and --presets show the variants side by side after the last cycle; --trace and --watch show one run (trace each variant with --policy K=V or --dialect)"
                 Right vs -> compareIec vs (optFile o) src ro
   Right _
     | not (null (optPresets o)) -> usageError "run" "--presets compares the presets of the IEC dialects (--dialect tecomat, nexto or an engine's preset); the MasterTool XE controller has one preset: compare the alternatives of a policy with --compare POLICY"
@@ -209,6 +212,8 @@ runMasterTool o = do
                     pure (roInitial outcome, foldr (\r rest -> CallStep r (roFinal outcome) rest) (CallsDone (roFinal outcome)) (roResults outcome), events, cmProgram cm)
                   Nothing -> (\(initial, stream) -> (initial, stream, [], cmProgram cm)) <$> streamModule runSetup cm calls
           case optCompare o of
+            Just _ | traceRequest (optTrace o) /= Nothing || not (null (watchTable (optTrace o))) ->
+              usageError "run" "--compare shows the alternatives side by side after the last call; --trace and --watch show one run (trace each alternative with --policy K=V)"
             Just name -> compareMasterTool fmtJson (optFile o) src (T.pack name) pol (\p -> RunSetup p (pfConfig plc) kind (pfInit plc ++ sets)) (callsOf scenario)
             Nothing -> case started of
                 Left (BadSetting msg) -> usageError "run" msg
@@ -520,21 +525,30 @@ compareMasterTool :: Bool -> FilePath -> Text -> Text -> Policies -> (Policies -
 compareMasterTool json file src name pol setupFor callsE = case (alternativesOf name pol, callsE) of
   (Left msg, _) -> usageError "run" msg
   (_, Left msg) -> usageError "run" msg
+  (Right _, Right []) -> usageError "run" "--compare runs at least one call (--calls N, N >= 1)"
   (Right alts, Right calls) -> do
     let started = [(alt, p, compileSource p (rsKind (setupFor p)) file src >>= \cm -> streamModule (setupFor p) cm calls) | (alt, p) <- alts]
     case [f | (_, _, Left f) <- started] of
-      failure : _ | length [() | (_, _, Right _) <- started] == 0 || isBadSetting failure -> do
-        TIO.hPutStr stderr (renderRunFailure file src failure)
-        pure (ExitFailure (if isBadSetting failure then 2 else 1))
+      failure : _ | length [() | (_, _, Right _) <- started] == 0 || isBadSetting failure -> case failure of
+        Rejected errs | json -> BL.putStrLn (A.encode (rejectionJson file errs)) >> pure (ExitFailure 1)
+        SyntaxError err | json -> BL.putStrLn (A.encode (rejectionJson file [err])) >> pure (ExitFailure 1)
+        _ -> do
+          TIO.hPutStr stderr (renderRunFailure file src failure)
+          pure (ExitFailure (if isBadSetting failure then 2 else 1))
       _ -> do
         let cfg = rsPlc (setupFor pol)
-            ran = [(alt, either (const Nothing) Just s) | (alt, _, s) <- started]
-            streams = [snd <$> s | (_, s) <- ran]
-        case inStep 1 Nothing (map (const Nothing) ran) Nothing streams of
+            names = [name <> "=" <> alt | (alt, _, _) <- started]
+            count = length calls
+            -- the states before the first call, taken out now: nothing may
+            -- hold the head of a stream while the calls run
+            initials = [either (const Nothing) (Just . fst) s | (_, _, s) <- started]
+            streams = [either (const Nothing) (Just . snd) s | (_, _, s) <- started]
+        _ <- evaluate (count + length names)
+        mapM_ (evaluate . maybe () (`seq` ())) initials
+        case inStep 1 Nothing (map (const Nothing) streams) Nothing streams of
           Left failure -> TIO.hPutStr stderr (renderRunFailure file src failure) >> pure (ExitFailure 2)
           Right (parting, firstErrors, lastCalls, finals) -> do
-            let initials = [fst <$> s | (_, s) <- ran]
-                changed = nubOrd [c | (Just i, Just f) <- zip initials finals, (c, _, _) <- changedCells cfg (psMemory i) (psMemory f), c `notElem` bandCells cfg]
+            let changed = nubOrd [c | (Just i, Just f) <- zip initials finals, (c, _, _) <- changedCells cfg (psMemory i) (psMemory f), c `notElem` bandCells cfg]
                 column f = maybe "rejected" f
                 operandRows = [(renderOperand (cellOperand c), [column (\st -> cellText (psMemory st) c) st | st <- finals]) | c <- changed]
                 callRows =
@@ -543,12 +557,12 @@ compareMasterTool json file src name pol setupFor callsE = case (alternativesOf 
                     ++ [("diagnostics " <> renderOperand (OpSimple KM (plcDiagnostics cfg)) <> "..", [column (\st -> T.unwords [tshow (signedM (psMemory st) c) | c <- bandCells cfg]) st | st <- finals])]
                 vars = nubOrd [n | Just r <- lastCalls, (n, _) <- crVars r]
                 varRows = [(n, [column (\r -> maybe "-" showValue (lookup n (crVars r))) r | r <- lastCalls]) | n <- vars]
-                errorText started' e = case (started', e) of
+                errorText initial e = case (initial, e) of
                   (Nothing, _) -> "rejected"
                   (_, Nothing) -> "none"
                   (_, Just (k, err)) -> describeError err <> " in call " <> tshow k
             printComparison json $
-              Comparison [name <> "=" <> a | (a, _) <- ran] "call" (length calls) parting (zipWith errorText (map snd ran) firstErrors) (operandRows ++ callRows ++ varRows)
+              Comparison names "call" count parting (zipWith errorText initials firstErrors) (operandRows ++ callRows ++ varRows)
   where
     isBadSetting = \case
       BadSetting _ -> True
@@ -556,17 +570,22 @@ compareMasterTool json file src name pol setupFor callsE = case (alternativesOf 
     -- the streams in step: the first call after which they differ, each
     -- one's first error, last call and final state (Nothing: rejected)
     inStep :: Int -> Maybe Int -> [Maybe (Int, RuntimeError)] -> Maybe [Maybe CallResult] -> [Maybe CallStream] -> Either RunFailure (Maybe Int, [Maybe (Int, RuntimeError)], [Maybe CallResult], [Maybe PlcState])
-    inStep !k parting errs lastCalls streams = case sequence [maybe (Right Nothing) (fmap Just . step) s | s <- streams] of
+    inStep !k !parting errs lastCalls streams = case sequence [maybe (Right Nothing) (fmap Just . step) s | s <- streams] of
       Left failure -> Left failure
       Right steps
         | all (maybe True isDone) steps -> Right (parting, errs, maybe (map (const Nothing) streams) id lastCalls, [s >>= finalState | s <- steps])
         | otherwise ->
-            let seen = [(\(r, st, _) -> (crOutputs r, crError r, crOverflow r, crVars r, psMemory st)) <$> (s >>= running) | s <- steps]
+            let nodes = [s >>= running | s <- steps]
+                seen = [(\(r, st, _) -> (crOutputs r, crError r, crOverflow r, crVars r, psMemory st)) <$> n | n <- nodes]
                 parting' = case parting of
                   Nothing | any (/= head seen) seen -> Just k
                   _ -> parting
-                errs' = [maybe (maybe Nothing (\(r, _, _) -> (k,) <$> crError r) (s >>= running)) Just e | (e, s) <- zip errs steps]
-             in inStep (k + 1) parting' errs' (Just [(\(r, _, _) -> r) <$> (s >>= running) | s <- steps]) [(\(_, _, rest) -> rest) <$> (s >>= running) | s <- steps]
+                errs' = [maybe (nodes' >>= \(r, _, _) -> (k,) <$> crError r) Just e | (e, nodes') <- zip errs nodes]
+                lasts = [(\(r, _, _) -> r) <$> n | n <- nodes]
+                -- everything kept for the next call is evaluated now, so
+                -- that no call's state is held until the end (10^6 calls)
+                settled = foldr (\x acc -> maybe () (`seq` ()) x `seq` acc) () errs' `seq` foldr (\x acc -> maybe () (`seq` ()) x `seq` acc) () lasts
+             in parting' `seq` settled `seq` inStep (k + 1) parting' errs' (Just lasts) [(\(_, _, rest) -> rest) <$> n | n <- nodes]
     step = \case
       CallsFailed failure -> Left failure
       s -> Right s
