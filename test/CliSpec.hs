@@ -316,6 +316,10 @@ spec = describe "the stref command line" $ do
       (code3, out3, _) <- stref ["run", fixture "accumulate-mastertool.st", "--compare", "overflow", "--calls", "3"]
       code3 `shouldBe` ExitSuccess
       lines out3 `shouldContain` ["the variants agree after every call"]
+      -- in constant memory: 10^5 calls in a 32 MB heap (they held every call's state: 270 MB)
+      (codeM, outM, errM) <- stref ["run", fixture "accumulate-mastertool.st", "--compare", "overflow", "--calls", "100000", "+RTS", "-M32m", "-RTS"]
+      (codeM, errM) `shouldBe` (ExitFailure 1, "")
+      lines outM `shouldContain` ["they part after call 4"]
       (codeP, _, errP) <- stref ["run", fixture "accumulate-mastertool.st", "--presets", "tecomat"]
       codeP `shouldBe` ExitFailure 2
       errP `shouldSatisfy` ("compare the alternatives of a policy with --compare POLICY" `isInfixOf`)

@@ -301,10 +301,7 @@ evalSnippetCalls :: Int -> Policies -> Text -> Either (Text, RunFailure) Snippet
 evalSnippetCalls calls pol snippet = do
   (sn, t, cm) <- snippetModule pol snippet
   let compiled = compileModule pol defaultPlcConfig cm
-      lastCall k st =
-        let (st', r) = runCompiled pol defaultPlcConfig cm compiled defaultCallInput st
-         in if k <= 1 then r else lastCall (k - 1 :: Int) st'
-  Right (SnippetResult sn t (lastCall calls initialPlcState))
+  Right (SnippetResult sn t (lastOf calls (\_ st -> runCompiled pol defaultPlcConfig cm compiled defaultCallInput st) initialPlcState))
 
 -- | 'evalSnippetCalls' with tracing on: the result and the events of its
 -- calls (every loop iteration kept with @True@).
@@ -313,12 +310,21 @@ evalSnippetTraced everyIteration calls pol snippet = do
   (sn, t, cm) <- snippetModule pol snippet
   let compiled = compileTracedModule pol defaultPlcConfig cm
       -- several calls are told apart as a run's are, one call is not
-      numbered k tracer = if calls > 1 then emit (Cycle (calls - k + 1)) tracer else tracer
-      lastCall k st tracer =
-        let (st', r, tracer') = runCompiledTraced pol defaultPlcConfig cm compiled (numbered k tracer) defaultCallInput st
-         in if k <= 1 then (r, tracer') else lastCall (k - 1 :: Int) st' tracer'
-      (r, traced) = lastCall calls initialPlcState (newTracer everyIteration)
+      numbered i tracer = if calls > 1 then emit (Cycle i) tracer else tracer
+      call i (st, tracer) =
+        let (st', r, tracer') = runCompiledTraced pol defaultPlcConfig cm compiled (numbered i tracer) defaultCallInput st
+         in ((st', tracer'), (r, tracer'))
+      (r, traced) = lastOf calls call (initialPlcState, newTracer everyIteration)
   Right (SnippetResult sn t r, tracerEvents traced)
+
+-- | The result of the last of n calls (at least one), each call given its
+-- number from 1 and the state the one before left.
+lastOf :: Int -> (Int -> s -> (s, r)) -> s -> r
+lastOf n call = go 1
+  where
+    go !i !st =
+      let (st', r) = call i st
+       in if i >= n then r else go (i + 1) st'
 
 -- | The program a snippet is wrapped into, checked, and a bare
 -- expression's type.
