@@ -288,13 +288,22 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` ("tecomat" `isInfixOf`)
 
-  describe "check, rule ids" $ do
+  describe "nexto: rule ids, ADR and pointers into direct addresses" $ do
     it "a reserved name cites the rules of the dialect's own catalogue (NX-LEX-12 under nexto, TC-LEX-3 under tecomat)" $ do
       (code, _, err) <- stref ["check", "--dialect", "nexto", fixture "nexto-reserved.st"]
       code `shouldBe` ExitFailure 1
       err `shouldSatisfy` ("(NX-LEX-12, NX-LEX-13) [reserved-name]" `isInfixOf`)
       (_, _, errT) <- stref ["check", "--dialect", "tecomat", fixture "nexto-reserved.st"]
       errT `shouldSatisfy` ("(TC-LEX-1, TC-LEX-3) [reserved-name]" `isInfixOf`)
+    it "ADR of a BOOL at a bit address is rejected: a pointer reaches bytes, not bits" $ do
+      (code, _, err) <- stref ["check", "--dialect", "nexto", fixture "adr-of-a-bit.st"]
+      code `shouldBe` ExitFailure 1
+      err `shouldSatisfy` ("6:6: error: ADR gives the address of a byte, and %QX0.3 is one bit of it" `isInfixOf`)
+    it "a pointer into %M writes only the bytes of the member it reaches, at its packed offset (docs/nexto.md, the memory model)" $ do
+      (code, out, _) <- stref ["run", "--dialect", "nexto", fixture "area-pointer-packed.st"]
+      code `shouldBe` ExitSuccess
+      -- Rec packed: flag at 0, count at 1..2, tail at 3; raw holds bytes 20..23, guard byte 24
+      lines out `shouldContain` ["  MAIN.guard = 99", "  MAIN.p = 671088660", "  MAIN.gotCount = 258", "  MAIN.off = 1"]
     it "a type mismatch cites the conversion rules of the dialect's catalogue (NX-CONV-1 under nexto, TC-CONV-1 under tecomat)" $ do
       (_, _, errN) <- stref ["check", "--dialect", "nexto", fixture "narrowing.st"]
       errN `shouldSatisfy` ("convert it explicitly (NX-CONV-1, NX-CONV-2) [type-mismatch]" `isInfixOf`)

@@ -1819,7 +1819,11 @@ callExpr expected p f args
               fixed p (TElem DWORD) (CConst (VInt DWORD (codeArea + 16 * toInteger (M.findIndex (key n) pous))))
             _ -> do
               (ref, t, _) <- checkRef x
-              fixed p (pointerOf t) (CAddressOf ref)
+              case ref of
+                -- a BOOL at a bit address is not a byte a pointer can hold
+                CLocated l (TElem BOOL) | not (byteSized l) ->
+                  failC "not-a-variable" p ("ADR gives the address of a byte, and " <> locText l <> " is one bit of it: no pointer reaches a single bit (BITADR gives an input bit's address, NX-OP-69)")
+                _ -> fixed p (pointerOf t) (CAddressOf ref)
         _ -> failC "too-many-arguments" p "ADR takes one variable"
   | key f == "BITADR" = do
       pol <- asks envPol

@@ -1030,7 +1030,28 @@ getPath :: RefPath -> Eval Value
 getPath path = getPathOr path (VBool False)
 
 getPathOr :: RefPath -> Value -> Eval Value
-getPathOr (RefPath r steps) dflt = gets (\m -> fromMaybe dflt (rootValue r m >>= walk steps))
+getPathOr path dflt = do
+  RefPath r steps <- narrowed path
+  gets (\m -> fromMaybe dflt (rootValue r m >>= walk steps))
+
+-- | A path into a direct-address area's bytes reaches the bytes of its
+-- leaf: its fields and indices are offsets in the pointer's type, in the
+-- program's layout (pack_mode included, as ADR sees it); only the leaf's
+-- bytes are read or written, never the bytes around it.
+narrowed :: RefPath -> Eval RefPath
+narrowed path = case path of
+  RefPath (RootBytes area a t) steps@(_ : _) -> do
+    ly <- asks (layoutOf . cxProgram)
+    let go off ty = \case
+          s : rest
+            | offsetStep s, Just (o, ft) <- offsetOf ly ty [s] -> go (off + o) ft rest
+          rest -> RefPath (RootBytes area off ty) rest
+        offsetStep = \case
+          StepField _ -> True
+          StepIndex _ -> True
+          _ -> False
+    pure (go a t steps)
+  _ -> pure path
 
 walk :: [Step] -> Value -> Maybe Value
 walk [] v = Just v
@@ -1044,7 +1065,7 @@ walk (s : rest) v = case (s, v) of
   _ -> Nothing
 
 putPath :: RefPath -> Value -> Eval ()
-putPath (RefPath r steps) v = modify' $ \m -> case rootValue r m of
+putPath path v = narrowed path >>= \(RefPath r steps) -> modify' $ \m -> case rootValue r m of
   Just root -> setRoot r (updateAt steps v root) m
   Nothing -> m
 
