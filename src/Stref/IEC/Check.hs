@@ -178,6 +178,9 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   -- report the first error in a POU's declarations
   forM_ pous $ \p -> either throwError (const (pure ())) (varsOfE M.! key (pouName p))
   forM_ pous $ \p -> either throwError (const (pure ())) (membersOfE M.! key (pouName p))
+  -- every TYPE is checked, also one that only a pointer names (TNamed is
+  -- looked up only where a pointer is followed)
+  forM_ typeDecls $ \t -> runReaderT (resolveType (TSName (tdPos t) (tdName t))) env0
   perBlock <- forM globalBlocks $ \b -> do
     vs <- runReaderT (blockVars Nothing b) env0
     checkDuplicates [(viPos v, viName v) | v <- vs]
@@ -630,6 +633,11 @@ pointerTo spec = do
   case spec of
     TSName _ n
       | Just td <- M.lookup (key n) types, structured (tdSpec td) -> pure (TPointer (TNamed (tdName td)))
+      -- an alias of a name: the pointer names what the alias names
+      | Just td <- M.lookup (key n) types, TSName {} <- tdSpec td -> do
+          depth <- asks envTypeDepth
+          when (depth > 64) (failC "recursive-type" (tdPos td) ("the type " <> n <> " is defined through itself"))
+          local (\e -> e {envTypeDepth = depth + 1}) (pointerTo (tdSpec td))
     _ -> pointerOf <$> resolveType spec
   where
     structured = \case
