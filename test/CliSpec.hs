@@ -304,6 +304,15 @@ spec = describe "the stref command line" $ do
       code `shouldBe` ExitSuccess
       -- Rec packed: flag at 0, count at 1..2, tail at 3; raw holds bytes 20..23, guard byte 24
       lines out `shouldContain` ["  MAIN.guard = 99", "  MAIN.p = 671088660", "  MAIN.gotCount = 258", "  MAIN.off = 1"]
+    it "tasks of different intervals: the default cycle is their greatest common divisor, each runs when its interval comes round; a program WITH an unknown task is rejected (TC-CFG-10)" $ do
+      (code, out, _) <- stref ["run", "--dialect", "nexto", fixture "tasks-two-intervals.st", "--calls", "4"]
+      code `shouldBe` ExitSuccess
+      -- 40 ms and 60 ms: a 20 ms cycle, clock 0, 20, 40, 60
+      take 1 (lines out) `shouldBe` ["cycles run: 4 (cycle T#20ms, clock at the last cycle T#60ms)"]
+      lines out `shouldContain` ["  fastRuns = 2", "  slowRuns = 2"]
+      (codeU, _, errU) <- stref ["check", "--dialect", "nexto", fixture "tasks-unknown-task.st"]
+      codeU `shouldBe` ExitFailure 1
+      errU `shouldSatisfy` ("which is not a TASK of its resource (TC-CFG-10) [undeclared-task]" `isInfixOf`)
     it "a type mismatch cites the conversion rules of the dialect's catalogue (NX-CONV-1 under nexto, TC-CONV-1 under tecomat)" $ do
       (_, _, errN) <- stref ["check", "--dialect", "nexto", fixture "narrowing.st"]
       errN `shouldSatisfy` ("convert it explicitly (NX-CONV-1, NX-CONV-2) [type-mismatch]" `isInfixOf`)

@@ -30,7 +30,7 @@ import Cmd.ExploreIec (ExploreIec (..), IecMode (..), exploreIec)
 import Cmd.Iec (dialectPolicies, isIecDialect)
 import Stref.Conformance.Corpus (readListFile)
 import Stref.Conformance.Runner (EngineSpec (..), RunOptions (..), askEngine, defaultRunOptions)
-import Stref.Generate.Iec (codesysSupport, fullSupport, keepsAType, knownFeatures, withoutFeatures)
+import Stref.Generate.Iec (keepsAType, knownFeatures, supportUnder, withoutFeatures)
 import Stref.Engine (referenceEngine)
 import Stref.Explore.Run
 import Stref.Generate.Program
@@ -115,8 +115,10 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
       unknown ->
         usage ("--exclude-feature " <> T.intercalate ", " unknown <> ": the generated programs never use it; the features they can do without: " <> T.intercalate ", " knownFeatures)
           >>= exitWith
-    -- the dialect's language: the IEC core, with nexto's CODESYS extensions
-    let base = if pExtensions pol == ExtensionsCodesys then codesysSupport else fullSupport
+    -- the requests name the IEC dialect given, tecomat for an engine's preset
+    let requestDialect = if optDialect o `elem` ["tecomat", "nexto"] then T.pack (optDialect o) else "tecomat"
+    -- the language of the policies in force, as they spell it
+    let base = supportUnder pol
         support = withoutFeatures (optExcluded o ++ lacking) base
     when (not (keepsAType support)) $
       usage "the excluded features leave no type to generate programs with" >>= exitWith
@@ -132,7 +134,7 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
           ComparePresets {} -> Nothing
     case mode of
       Nothing -> usage "--presets compares MasterTool XE presets; for tecomat use --compare POLICY"
-      Just m -> exploreIec pol {pStepBudget = min (pStepBudget pol) explorationBudget} (ExploreIec m support (optCount o) seed (optSize o) (optShrinkBudget o) (optTimeout o))
+      Just m -> exploreIec pol {pStepBudget = min (pStepBudget pol) explorationBudget} (ExploreIec m requestDialect support (optCount o) seed (optSize o) (optShrinkBudget o) (optTimeout o))
   Right _
     | not (null (optExcluded o)) || isJust (optFeaturesFile o) ->
         usage "--exclude-feature and --features-file restrict the IEC dialects' programs (--dialect tecomat, nexto); the MasterTool XE programs have a fixed shape"

@@ -34,6 +34,7 @@ data IecMode = IecCompare Text | IecEngine String | IecPrint
 
 data ExploreIec = ExploreIec
   { eiMode :: IecMode
+  , eiDialect :: Text -- ^ the dialect the requests name
   , eiSupport :: Support -- ^ what the programs may use (all, less what the engine lacks)
   , eiCount :: Int
   , eiSeed :: Int
@@ -82,7 +83,7 @@ differences pol gp a b = case (a, b) of
 exploreIec :: Policies -> ExploreIec -> IO ExitCode
 exploreIec pol o = do
   putStrLn ("seed " <> show (eiSeed o) <> " (replay with --seed " <> show (eiSeed o) <> " --count " <> show (eiCount o) <> " --size " <> show (eiSize o) <> ")")
-  forM_ (supportSummary (eiSupport o)) $ \s -> TIO.putStrLn ("the programs use only " <> s)
+  forM_ (supportSummary (supportUnder pol) (eiSupport o)) $ \s -> TIO.putStrLn ("the programs use only " <> s)
   let progs = [(s, generated (eiSupport o) (eiSize o) s) | s <- take (eiCount o) [eiSeed o ..]]
   case eiMode o of
     IecPrint -> do
@@ -106,7 +107,7 @@ exploreIec pol o = do
     IecEngine cmd -> do
       let ropts = defaultRunOptions {roEngine = External cmd, roTimeout = eiTimeout o}
           request gp =
-            Request protocolVersion "explore" "tecomat" (M.fromList (policyAssignments pol)) (renderProgram gp) "P"
+            Request protocolVersion "explore" (eiDialect o) (M.fromList (policyAssignments pol)) (renderProgram gp) "P"
               (PlcRequest (Declare M.empty M.empty) "" M.empty Nothing)
               (replicate (gpCalls gp) (CallRequest (True, True, True) M.empty Nothing))
               (Observe [] (observedPaths (gpSupport gp)) [] True) Nothing (Just "T#10ms")

@@ -7,6 +7,7 @@ module Cmd.Iec
   , checkIec
   , parseIec
   , runIec
+  , defaultCycle
   , evalIec
   , evalIecRows
   , evalIecTrace
@@ -346,3 +347,12 @@ evalIecRows pol snippet calls =
                 ++ [("error", maybe "none" (\(k, StopFault (Pos l _) f) -> faultKind f <> " in cycle " <> T.pack (show k) <> " at line " <> T.pack (show (l - 1))) (rrError r))]
             )
         _ -> Nothing
+
+-- | The cycle of a run that gives none: the greatest common divisor of the
+-- configuration's task intervals, so that every task comes round on the
+-- virtual clock (docs/tecomat.md, tasks), else T#10ms.
+defaultCycle :: Policies -> FilePath -> Text -> Maybe Text -> Text
+defaultCycle pol file src program =
+  case parseUnit pol file src >>= checkUnit pol (maybe ProgramsOfConfiguration ProgramNamed program) of
+    Right prog | periods@(_ : _) <- filter (> 0) (M.elems (prPeriods prog)) -> "T#" <> T.pack (show (foldr1 gcd periods)) <> "ms"
+    _ -> "T#10ms"

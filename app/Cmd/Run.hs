@@ -25,7 +25,7 @@ import qualified Options.Applicative as O
 import System.Exit
 import System.IO (stderr, stdout)
 import Cmd.Common
-import Cmd.Iec (RunIecOptions (..), compareIec, dialectPolicies, isIecDialect, runIec)
+import Cmd.Iec (RunIecOptions (..), compareIec, defaultCycle, dialectPolicies, isIecDialect, runIec)
 import Stref.Conformance.Case (Case (..), CallSetup (CallSetup), ExpValue (..), IecCall (..), IecSetup (..), iecScalar, parseScenario)
 import Stref.IEC.Engine (Call (..))
 import Stref.IEC.Eval (resetEvents)
@@ -51,7 +51,7 @@ data Options = Options
   , optPolicies :: [String]
   , optFormat :: String
   , optDialect :: String
-  , optCycle :: String
+  , optCycle :: Maybe String
   , optProgram :: Maybe String
   , optPresets :: [String]
   , optCompare :: Maybe String
@@ -85,7 +85,7 @@ options =
     <*> many (strOption (long "policy" <> metavar "K=V" <> help "Set a policy, e.g. overflow=wrap"))
     <*> strOption (long "format" <> metavar "text|json" <> value "text" <> showDefault <> help "Output format")
     <*> strOption (long "dialect" <> metavar "NAME" <> value "mastertool-xe" <> showDefault <> help "The dialect: mastertool-xe, tecomat or nexto (an IEC dialect: --set takes PATH=VALUE, e.g. MAIN.start=TRUE)")
-    <*> strOption (long "cycle" <> metavar "TIME" <> value "T#10ms" <> showDefault <> help "IEC dialects: the task interval (the virtual clock advances by it before each cycle)")
+    <*> optional (strOption (long "cycle" <> metavar "TIME" <> help "IEC dialects: the cycle (the virtual clock advances by it before each cycle); default: the greatest common divisor of the configuration's task intervals, else T#10ms"))
     <*> optional (strOption (long "program" <> metavar "NAME" <> help "IEC dialects: the PROGRAM to run (default: the configuration's, or the file's only one)"))
     <*> many (strOption (long "presets" <> metavar "NAME" <> help "IEC dialects: run under this preset too, side by side with the others given (repeatable: --presets tecomat --presets rusty); exit 1 when they differ"))
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "IEC dialects: run under every alternative of this policy, side by side; exit 1 when they differ"))
@@ -114,7 +114,7 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
           case sequence scenario of
             Left msg -> usageError "run" msg
             Right calls -> do
-              let ro = RunIecOptions (optCalls o) (T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls) Nothing
+              let ro = RunIecOptions (optCalls o) (maybe (defaultCycle pol (optFile o) src (T.pack <$> optProgram o)) T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls) Nothing
               case variants pol of
                 Left msg -> usageError "run" msg
                 Right [] -> runIec pol (optFile o) src ro

@@ -16,6 +16,7 @@ module Stref.Generate.Iec
   , Support
   , fullSupport
   , codesysSupport
+  , supportUnder
   , withoutFeatures
   , knownFeatures
   , supportSummary
@@ -31,6 +32,7 @@ import Data.List (intercalate)
 import qualified Data.Set as S
 import Data.Text (Text)
 import qualified Data.Text as T
+import Stref.Policy
 import Test.QuickCheck
 
 -- | The types the generator uses.
@@ -103,7 +105,9 @@ data Construct
 
 -- | What the programs may use.
 data Support = Support
-  { suCodesys :: Bool -- ^ spelt as CODESYS spells it (CTU's RESET, NX-FB-11; no negative TIME, NX-TYPE-34)
+  { suCounterReset :: String -- ^ CTU's reset input: R (TC-FB-19), RESET under the CODESYS library (NX-FB-11)
+  , suCounterWord :: Bool -- ^ CTU's CV is a WORD under the CODESYS library (NX-FB-12), else an INT
+  , suNegativeTime :: Bool -- ^ negative TIME literals exist (time-range signed, TC-TYPE-19; not NX-TYPE-34)
   , suParts :: S.Set Construct
   }
   deriving (Eq, Show)
@@ -113,23 +117,39 @@ standardFunctions = ["MAX", "MIN", "LIMIT", "ABS", "SHL", "SHR", "ROL", "ROR"]
 
 -- | The IEC core, as tecomat has it.
 fullSupport :: Support
-fullSupport =
-  Support False . S.fromList $
-    map UseType coreTypes
-      ++ [UseIf, UseCase, UseFor, UseTimer, UseCounter, UseConversion]
-      ++ map UseFunction standardFunctions
-      ++ map UseOperator ["/", "MOD"]
-      ++ [UseLiteralOperation]
+fullSupport = supportUnder tecomat
 
 -- | The IEC core and the CODESYS extensions nexto has: 64-bit integers and
 -- LWORD, a pointer, a method.
 codesysSupport :: Support
--- Operations of literals only are left out: an untyped literal takes the
--- smallest type that holds it (NX-LEX-23), which the generator does not
--- model.
-codesysSupport =
-  Support True $
-    S.delete UseLiteralOperation (suParts fullSupport) `S.union` S.fromList (map UseType [GLint, GUlint, GLword] ++ [UsePointer, UseMethod])
+codesysSupport = supportUnder nexto
+
+-- | What programs under these policies may use, spelt as they spell it:
+-- the CODESYS extensions where @extensions = codesys@; no operation of
+-- literals only where @implicit-conversions = codesys@ (an untyped literal
+-- takes the smallest type that holds it, NX-LEX-23, which the generator
+-- does not model).
+supportUnder :: Policies -> Support
+supportUnder pol =
+  Support
+    { suCounterReset = if codesysLibrary then "RESET" else "R"
+    , suCounterWord = codesysLibrary
+    , suNegativeTime = pTimeRange pol == TimeSigned
+    , suParts =
+        S.fromList $
+          coreParts
+            ++ [UseLiteralOperation | pImplicitConversions pol /= ImplicitCodesys]
+            ++ (if pExtensions pol == ExtensionsCodesys then map UseType [GLint, GUlint, GLword] ++ [UsePointer, UseMethod] else [])
+    }
+  where
+    codesysLibrary = pStandardLibrary pol == LibraryCodesys
+
+coreParts :: [Construct]
+coreParts =
+    map UseType coreTypes
+      ++ [UseIf, UseCase, UseFor, UseTimer, UseCounter, UseConversion]
+      ++ map UseFunction standardFunctions
+      ++ map UseOperator ["/", "MOD"]
 
 -- | The corpus features (conformance/README.md) that name something the
 -- generator uses, and what leaving each out removes.
@@ -184,9 +204,9 @@ knownFeatures = map fst featureConstructs
 -- removed too: IF needs BOOL, CASE and FOR an INT, a timer BOOL and TIME, a
 -- counter BOOL and INT.
 withoutFeatures :: [Text] -> Support -> Support
-withoutFeatures fs (Support codesys s) = Support codesys (S.filter usable kept)
+withoutFeatures fs su = su {suParts = S.filter usable kept}
   where
-    kept = s `S.difference` S.fromList (concat [cs | (f, cs) <- featureConstructs, f `elem` fs])
+    kept = suParts su `S.difference` S.fromList (concat [cs | (f, cs) <- featureConstructs, f `elem` fs])
     has t = UseType t `S.member` kept
     usable = \case
       UseIf -> has GBool
@@ -210,9 +230,9 @@ typesOf su = filter (uses su . UseType) [minBound .. maxBound]
 
 -- | The types and statements left, as a line for the user: empty when
 -- nothing is left out.
-supportSummary :: Support -> Maybe Text
-supportSummary su
-  | su `elem` [fullSupport, codesysSupport] = Nothing
+supportSummary :: Support -> Support -> Maybe Text
+supportSummary base su
+  | suParts su == suParts base = Nothing
   | otherwise =
       Just . T.pack $
         "types " ++ intercalate ", " (map typeName (typesOf su))
@@ -347,7 +367,7 @@ genExpr su depth t = if depth <= 0 then leaf else typedByAVariable <$> frequency
           GCall rt f (a : as) | all literalsOnly (a : as) -> GCall rt f (variableLike a : as)
           _ -> e
     variableLike a = GVar (typeOf a) (head (varsOf (typeOf a)))
-    counterValue = [(1 `when` (uses su UseCounter && t == (if suCodesys su then GWord else GInt)), pure (GCounterCV t))]
+    counterValue = [(1 `when` (uses su UseCounter && t == (if suCounterWord su then GWord else GInt)), pure (GCounterCV t))]
     compared = typed [GSint, GInt, GDint, GUsint, GReal, GLreal, GTime, GByte, GLint]
     shifts = filter function ["SHL", "SHR", "ROL", "ROR"]
     selections = filter function ["MAX", "MIN"]
@@ -365,7 +385,7 @@ genLit su t = GLit t <$> case t of
   GWord -> elements ["16#0000", "16#FFFF", "16#00F0", "16#8001"]
   GReal -> elements ["0.0", "1.5", "-2.25", "0.1", "3.4E38", "1.0E-3"]
   GLreal -> elements ["0.0", "2.5", "-0.1", "1.0E300", "7.0"]
-  GTime -> elements (["T#0ms", "T#10ms", "T#1s", "T#24d"] ++ ["T#-5ms" | not (suCodesys su)])
+  GTime -> elements (["T#0ms", "T#10ms", "T#1s", "T#24d"] ++ ["T#-5ms" | suNegativeTime su])
   GLint -> show <$> elements [0, 1, -3, 4294967296, 9223372036854775807, -9223372036854775808 :: Integer]
   GUlint -> show <$> elements [0, 1, 4294967296, 18446744073709551615 :: Integer]
   GLword -> elements ["16#0000000000000000", "16#FFFFFFFFFFFFFFFF", "16#00000000FFFFFFFF", "16#8000000000000001"]
@@ -511,7 +531,7 @@ renderWith declared (GenProgram su body _) =
           ++ [ind d ++ "END_CASE;"]
       GFor a b c body' -> [ind d ++ "FOR kk := " ++ show a ++ " TO " ++ show b ++ (if c == 1 then "" else " BY " ++ show c) ++ " DO"] ++ concatMap (stmt (d + 1)) body' ++ [ind d ++ "END_FOR;"]
       GTimer i p -> [ind d ++ "t(IN := " ++ expr i ++ ", PT := " ++ expr p ++ ");"]
-      GCounter cu -> [ind d ++ "c(CU := " ++ expr cu ++ ", " ++ (if suCodesys su then "RESET" else "R") ++ " := FALSE, PV := 5);"]
+      GCounter cu -> [ind d ++ "c(CU := " ++ expr cu ++ ", " ++ suCounterReset su ++ " := FALSE, PV := 5);"]
       GPointAt v -> [ind d ++ "pi1 := ADR(" ++ v ++ ");"]
       GStore e -> [ind d ++ "pi1^ := " ++ expr e ++ ";"]
     expr = \case

@@ -240,6 +240,11 @@ checkUnit pol choice (Unit decls) = runExcept $ do
     when (T.null (resName r)) $ case map taskPos (resTasks r) ++ map pcPos (resPrograms r) of
       (tp : _) -> throwError (VerificationError "section-not-allowed" tp "TASK and PROGRAM ... WITH stand inside a RESOURCE ... END_RESOURCE (TC-CFG-8, TC-CFG-12)")
       [] -> pure ()
+  -- TC-CFG-10: PROGRAM ... WITH names a task of its resource
+  forM_ configs $ \c -> forM_ (cfgResources c) $ \r -> forM_ (resPrograms r) $ \pc -> case pcTask pc of
+    Just t | key t `notElem` map (key . taskName) (resTasks r) ->
+      throwError (VerificationError "undeclared-task" (pcPos pc) ("the program " <> pcInstance pc <> " is associated with " <> t <> ", which is not a TASK of its resource (TC-CFG-10)"))
+    _ -> pure ()
   interval <- case configs of
     (c : _) -> pure (taskInterval c)
     [] -> pure Nothing
@@ -250,9 +255,9 @@ checkUnit pol choice (Unit decls) = runExcept $ do
       , prInstances = instances
       , prRoots = programRoots
       , prTaskInterval = interval
-      , prPeriods = case configs of
-          (c : _) -> M.fromList [(key (pcInstance pc), ms) | pc <- orderedPrograms c, Just ms <- [periodOf c pc]]
-          [] -> M.empty
+      , prPeriods = case (choice, configs) of
+          (ProgramsOfConfiguration, c : _) -> M.fromList [(key (pcInstance pc), ms) | r <- cfgResources c, pc <- resPrograms r, Just ms <- [periodOf r pc]]
+          _ -> M.empty
       , prGvls = M.fromList [(key n, M.fromList [(key (viName v), viKey v) | v <- vs]) | (Just n, _, vs) <- gvls]
       , prGlobalInits = globalInits
       , prGlobalInitArgs = globalInitArgs
@@ -310,9 +315,6 @@ checkVarConfig pous varsOf roots entries = do
       failC "unconfigured-address" pos ("the instance variable " <> dotted p <> " is declared at an incomplete address and VAR_CONFIG gives it none (NX-VAR-14)")
   pure configured
 
--- | TC-CFG-11: the programs of each task in the order of their association;
--- tasks by their Number property (the Tecomat process number), programs
--- without a task last.
 -- | The programs in the order they run when their tasks are due together:
 -- by the task's Number (Tecomat's process, TC-CFG-8), then its PRIORITY
 -- (lower first: the IEC task model, TC-CFG-9 and NX-TASK-1 being silent),
@@ -327,11 +329,12 @@ orderedPrograms c =
           Nothing -> 0
    in [pc | (_, (_, pc)) <- sortOn (\(i, (r, pc)) -> (property "NUMBER" r pc, property "PRIORITY" r pc, i)) (zip [0 :: Int ..] assoc)]
 
--- | The INTERVAL of a program's task, in milliseconds, when it states one.
-periodOf :: Configuration -> ProgramConfig -> Maybe Integer
-periodOf c pc = do
+-- | The INTERVAL of a program's task (in its resource), in milliseconds,
+-- when it states one as a TIME literal.
+periodOf :: Resource -> ProgramConfig -> Maybe Integer
+periodOf r pc = do
   t <- pcTask pc
-  tk <- find ((== key t) . key . taskName) [tk | r <- cfgResources c, tk <- resTasks r]
+  tk <- find ((== key t) . key . taskName) (resTasks r)
   ns <- lookup "INTERVAL" [(key k, ns) | (k, ELit _ (LTime ns)) <- taskProps tk]
   pure (ns `div` 1000000)
 

@@ -196,22 +196,16 @@ binaryWhy p op a b = case (a, b) of
   _ -> timeWhy (timeBinary p op a b)
   where
     plain r = (r, [])
-    expression :: Show n => n -> n -> Text
-    expression x y = T.pack (show x) <> " " <> binOpSymbol op <> " " <> T.pack (show y)
     outcome = either (const "a runtime error") (\v -> "the result is " <> renderValue v)
     -- the decisions of REAL arithmetic: an infinite result of finite
     -- operands (TC-OP-26, real-overflow), a division by zero (TC-OP-22,
     -- real-div-zero)
     realWhy r x y
-      | op == BDiv, y == 0 = (r, [ruled ["TC-OP-22", "TC-OP-26", "NX-ERR-10"] "real-div-zero" (expression x y <> ": division by zero gives " <> either (const "a runtime error") renderValue r)])
-      | op `elem` [BAdd, BSub, BMul, BDiv], finite x, finite y, isInfinite (arith x y) =
-          (r, [ruled ["TC-OP-26"] "real-overflow" (expression x y <> " leaves the range of " <> describe a <> ": " <> outcome r)])
+      | op == BDiv, y == 0 = (r, [ruled ["TC-OP-22", "TC-OP-26", "NX-ERR-10"] "real-div-zero" (written <> ": division by zero gives " <> either (const "a runtime error") renderValue r)])
+      | Just exact <- realArith op x y, finite x, finite y, isInfinite exact =
+          (r, [ruled ["TC-OP-26"] "real-overflow" (written <> " leaves the range of " <> describe a <> ": " <> outcome r)])
       | otherwise = (r, [])
-    arith x y = case op of
-      BAdd -> x + y
-      BSub -> x - y
-      BMul -> x * y
-      _ -> x / y
+    written = renderValue a <> " " <> binOpSymbol op <> " " <> renderValue b
     -- a duration's sum or difference outside its range: the overflow
     -- policy over the range time-range gives (TC-OP-49, TC-OP-52,
     -- TC-TYPE-19, NX-TYPE-30, NX-TYPE-34)
@@ -346,18 +340,24 @@ compareWith op x y = case op of
 -- once to the type.
 realBinary :: RealFloat a => Policies -> (a -> Value) -> BinOp -> a -> a -> Either Fault Value
 realBinary p mk op x y = case op of
-  BAdd -> arith (x + y)
-  BSub -> arith (x - y)
-  BMul -> arith (x * y)
   BDiv
     | y == 0 -> case pRealDivZero p of -- TC-OP-22, TC-OP-26
         RealDivZeroError -> Left (Fault "division-by-zero" "REAL division by zero")
         RealDivZeroIeee -> Right (mk (x / y)) -- ±inf, or NaN for 0.0/0.0
-    | otherwise -> arith (x / y)
   BMod -> realMod p mk x y
-  _ -> VBool <$> compareWith op x y
-  where
-    arith r = Right (mk (realOverflow p [x, y] r))
+  _ -> case realArith op x y of
+    Just r -> Right (mk (realOverflow p [x, y] r))
+    Nothing -> VBool <$> compareWith op x y
+
+-- | The IEEE result of + - * / in the operands' format, before the
+-- overflow policy.
+realArith :: RealFloat a => BinOp -> a -> a -> Maybe a
+realArith op x y = case op of
+  BAdd -> Just (x + y)
+  BSub -> Just (x - y)
+  BMul -> Just (x * y)
+  BDiv -> Just (x / y)
+  _ -> Nothing
 
 -- | TC-OP-26 (policy @real-overflow@): an infinite result of finite operands
 -- is an overflow; @saturate@ replaces it by the largest finite value of its
