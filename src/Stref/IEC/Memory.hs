@@ -58,7 +58,7 @@ import Stref.IEC.Values (Step (..), Value (..), defaultValue, wrapInt)
 
 -- | What the layout needs to know of the unit: the members (upper-case
 -- names and types) of a function block or program type, and the pack_mode
--- of a structure type (NX-PRAGMA-11), by its upper-case name.
+-- of a structure, union or POU type (NX-PRAGMA-11), by its upper-case name.
 data Layout = Layout
   { lyMembers :: Text -> [(Text, Type)]
   , lyPack :: Text -> Maybe Integer
