@@ -285,9 +285,11 @@ data Policies = Policies
   , pFBAccess :: !FBAccess
   , pSubrangeInitial :: !SubrangeInitial
   , pTimeRange :: !TimeRange
-  , pCatalogue :: !Text
+  , pCatalogue :: Text
   -- ^ the prefix of the rule ids of the dialect's catalogue (MT, TC, NX):
-  -- the ids a trace cites where a rule has one in several catalogues
+  -- the ids a trace cites where a rule has one in several catalogues.
+  -- Lazy: a strict Text would make each preset a CAF, which the evaluators
+  -- then enter at every use of a policy
   }
   deriving (Eq, Show)
 
