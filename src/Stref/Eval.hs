@@ -1180,9 +1180,8 @@ intConversion ctx from to x = case (from, to) of
        in Just (intMeaning (failsM xM) to (realUnary xM 0 (\r _ -> pure $! toNumber (VReal r)) typedInt))
     {-# INLINE onReal #-}
 
--- | A call: arguments left to right (decision A18), then a new frame one
--- level deeper; a 17th nested frame is runtime error 2050 at the line of the
--- call (MT-POU-9, decision A27). The caller's frame comes back afterwards.
+-- | A call: arguments left to right (decision A18), then the body in a new
+-- frame ('inFrame').
 compileCall :: Ctx -> Line -> FunId -> [CExpr] -> Run s Value
 compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
   Nothing -> \_ m -> malformed line m
@@ -1192,19 +1191,28 @@ compileCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
     bad <- hasFailed m
     if bad
       then pure (VBool False)
-      else
-        if envDepth e >= maxCallDepth
-          then raise m (runtimeError errCallDepth line) -- MT-ERR-2050
-          else do
-            saved <- readSTRef (mFrame m)
-            writeSTRef (mFrame m) fr
-            let e' = e {envDepth = envDepth e + 1}
-            mapM_ (\w -> w e' m) later
-            r <- fnRun fn e' m
-            writeSTRef (mFrame m) saved
-            pure r
+      else inFrame line fn fr later e m
     where
       argsM = zip (fnParams fn) (map (meaning ctx) args)
+
+-- | The body of a function whose arguments are passed ('passArguments'
+-- gave @later@) in the frame @fr@, one level deeper; a 17th nested frame is
+-- runtime error 2050 at the line of the call (MT-POU-9, decision A27). The
+-- caller's frame comes back afterwards.
+inFrame :: Line -> Function -> CallFrame s -> [Run s ()] -> Run s Value
+inFrame line fn fr later e m
+  | envDepth e >= maxCallDepth = raise m (runtimeError errCallDepth line) -- MT-ERR-2050
+  | otherwise = do
+      saved <- readSTRef (mFrame m)
+      writeSTRef (mFrame m) fr
+      let e' = e {envDepth = envDepth e + 1}
+      mapM_ (\w -> w e' m) later
+      r <- fnRun fn e' m
+      writeSTRef (mFrame m) saved
+      pure r
+-- inlined, like 'passArguments', into the call's closure: the frame stays
+-- unboxed there (filter: +1.4% instructions when both were shared calls)
+{-# INLINE inFrame #-}
 
 -- | The arguments left to right, stopping at the first error: one for a
 -- parameter in the frame is written into the new frame at once (nothing
@@ -1222,6 +1230,7 @@ passArguments fr = go
         else case varHome param of
           Frame i -> writeFrame fr i x >> go rest e m
           _ -> (writeRun param 0 x :) <$> go rest e m
+{-# INLINE passArguments #-}
 
 compileStmt :: Ctx -> CStmt -> Run s Flow
 compileStmt ctx
@@ -1716,19 +1725,12 @@ tracedCall ctx line fid args = case IM.lookup fid (cxFunctions ctx) of
             Nothing -> pure (VBool False)
             Just xs -> do
               traceEvent m (Call at (fnName fn) [(varName p, showValue x) | (p, x) <- zip params xs])
-              if envDepth e >= maxCallDepth
-                then raise m (runtimeError errCallDepth line) -- MT-POU-9, MT-ERR-2050 (told by the runner)
-                else do
-                  fr <- startFrame (fnFrame fn)
-                  later <- passArguments fr [(p, Meaning False (\_ _ -> pure x) (Constant x) Untyped) | (p, x) <- zip params xs] e m
-                  saved <- readSTRef (mFrame m)
-                  writeSTRef (mFrame m) fr
-                  let e' = e {envDepth = envDepth e + 1}
-                  mapM_ (\w -> w e' m) later
-                  r <- fnRun fn e' m
-                  writeSTRef (mFrame m) saved
-                  bad <- hasFailed m
-                  if bad then pure r else r <$ traceEvent m (Return at (fnName fn) [(fnName fn, showValue r)])
+              fr <- startFrame (fnFrame fn)
+              later <- passArguments fr [(p, Meaning False (\_ _ -> pure x) (Constant x) Untyped) | (p, x) <- zip params xs] e m
+              -- runtime error 2050 is told by the runner, with MT-POU-9
+              r <- inFrame line fn fr later e m
+              bad <- hasFailed m
+              if bad then pure r else r <$ traceEvent m (Return at (fnName fn) [(fnName fn, showValue r)])
   where
     at = cxLine ctx
     argumentValues [] _ _ = pure (Just [])
