@@ -143,20 +143,23 @@ runCompiledLazyVars :: Policies -> PlcConfig -> CModule -> CompiledModule -> Cal
 runCompiledLazyVars = runCompiledWith False
 
 runCompiledWith :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> CallInput -> PlcState -> (PlcState, CallResult)
-runCompiledWith eagerVars pol cfg cm compiled = case runCompiledTracing eagerVars pol cfg cm compiled of
-  call -> \ci st -> case call untraced ci st of
-    (st', r, _) -> (st', r)
-  where
-    untraced = newTracer False
+runCompiledWith eagerVars pol cfg cm compiled =
+  -- an untraced translation's tracer is never told anything
+  runCompiledTracing (\st r _ -> (st, r)) eagerVars pol cfg cm compiled (newTracer False)
 
 -- | 'runCompiled' for a module translated by 'compileTracedModule': the
 -- events of the call are added to the tracer, with the runtime error that
 -- ended it (and the rule that raised it).
 runCompiledTraced :: Policies -> PlcConfig -> CModule -> CompiledModule -> Tracer -> CallInput -> PlcState -> (PlcState, CallResult, Tracer)
-runCompiledTraced = runCompiledTracing True
+runCompiledTraced = runCompiledTracing (,,) True
 
-runCompiledTracing :: Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> Tracer -> CallInput -> PlcState -> (PlcState, CallResult, Tracer)
-runCompiledTracing eagerVars pol cfg cm compiled = case callSetup pol cfg cm compiled of
+-- | A call, whose state, result and tracer are given to @ended@. Inlined,
+-- with 'runChecked': for an untraced call the tracer is dropped where it is
+-- built, and what does not depend on the call is computed once, outside
+-- the call's closure (as when 'runChecked' had a single caller).
+runCompiledTracing :: (PlcState -> CallResult -> Tracer -> a) -> Bool -> Policies -> PlcConfig -> CModule -> CompiledModule -> Tracer -> CallInput -> PlcState -> a
+{-# INLINE runCompiledTracing #-}
+runCompiledTracing ended eagerVars pol cfg cm compiled = case callSetup pol cfg cm compiled of
   CallSetup mappedChecked noParameters table band bandKeyed initialiseData -> \tracer ci st ->
     let (input1, _, _) = ciInputs ci
         checks = do
@@ -165,7 +168,7 @@ runCompiledTracing eagerVars pol cfg cm compiled = case callSetup pol cfg cm com
           case (ciChfIn ci, ciChfOut ci) of
             ([], []) -> noParameters
             (ins, outs) -> checkChfParameters (pErrorLineBeforeStart pol) cfg (cmProgram cm) ins outs
-     in runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks tracer ci st
+     in runChecked ended eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks tracer ci st
 
 -- | What does not depend on the call, computed once for all the calls of a
 -- module: the checks of the mapped operands and of an empty CHF parameter
@@ -209,12 +212,13 @@ callSetup pol cfg cm compiled =
       (Data _, Nothing) -> False
       _ -> True
 
-runChecked :: Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> Tracer -> CallInput -> PlcState -> (PlcState, CallResult, Tracer)
-runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks tracer ci st
+{-# INLINE runChecked #-}
+runChecked :: (PlcState -> CallResult -> Tracer -> a) -> Bool -> Policies -> CModule -> CompiledModule -> CellSlots -> (forall s. Exec s ()) -> [Cell] -> [(Cell, Int, Word32)] -> Bool -> Either RuntimeError [ParamSource] -> Tracer -> CallInput -> PlcState -> a
+runChecked ended eagerVars pol cm compiled table initialiseData band bandKeyed input1 checks tracer ci st
   | not input1 =
       -- MT-SIG-3: the module does not run; the outputs of the instruction
       -- stay off and nothing else changes (not even the diagnostics)
-      (st, CallResult (False, False, False) Nothing [] 0 False False, told (Rule 0 (decision ["MT-SIG-3"] "INPUT1 is FALSE: the module does not run")) tracer)
+      ended st (CallResult (False, False, False) Nothing [] 0 False False) (told (Rule 0 (decision ["MT-SIG-3"] "INPUT1 is FALSE: the module does not run")) tracer)
   | otherwise = case checks of
       Left err ->
         let sn =
@@ -228,7 +232,7 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
          in withTracer (failure err tracer) (finish True (psRetained st) (Left err) sn)
       Right sources -> runST (runBody sources)
   where
-    withTracer tr (st', r) = (st', r, tr)
+    withTracer tr (st', r) = ended st' r tr
     -- only a traced translation's tracer is told anything
     told ev tr = if cmTraced compiled then emit ev tr else tr
     -- a runtime error, the rule that raised it, and for the limits the
@@ -247,7 +251,7 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
       mapM_ (`writeSTRef` tracer) (mTrace m)
       r <- unExec (prepare sources >> cmBody compiled) env m
       tracer' <- maybe (pure tracer) readSTRef (mTrace m)
-      let ended = case r of
+      let tracerN = case r of
             Done _ -> tracer'
             Failed err -> failure err tracer'
       case copyPairs sources of
@@ -258,12 +262,12 @@ runChecked eagerVars pol cm compiled table initialiseData band bandKeyed input1 
             Done _ -> mapM_ (\(c, k, w) -> writeMachineCell m c k w) bandKeyed
             Failed err -> mapM_ (\((c, k, _), x) -> writeMachineCell m c k (bandPattern x)) (zip bandKeyed (errorBand err))
           sn <- snapshot m
-          pure $ withTracer ended $ case r of
+          pure $ withTracer tracerN $ case r of
             Done _ -> finish False (keep sn) (Right ()) sn
             Failed err -> finish False (keep sn) (Left err) sn
         _ -> do
           sn <- snapshot m
-          pure $ withTracer ended $ case r of
+          pure $ withTracer tracerN $ case r of
             Done _ -> finish True (keep sn) (Right ()) (copyBack sources sn)
             Failed err -> finish True (keep sn) (Left err) sn
     env = Env (ciInputs ci) 0

@@ -206,7 +206,7 @@ streamModule setup cm calls = do
   let st0 = initialPlcState {psMemory = mem0}
       go !st = \case
         [] -> CallsDone st
-        c : rest -> case settings c (psMemory st) of
+        c : rest -> case callSettings setup c (psMemory st) of
           Left failure -> CallsFailed failure
           Right mem ->
             let ci = CallInput (csInputs c) (csChfIn c) (csChfOut c)
@@ -216,13 +216,14 @@ streamModule setup cm calls = do
   where
     -- translated and checked once for all the calls
     call = runCompiledLazyVars (rsPolicies setup) (rsPlc setup) cm (compileModule (rsPolicies setup) (rsPlc setup) cm)
-    settings c mem = callSettings setup c mem
 
 -- | The memory with the operands a call writes before it runs.
 callSettings :: RunSetup -> CallSpec -> Memory -> Either RunFailure Memory
 callSettings setup c mem = case csSet c of
   [] -> Right mem
   sets -> traverse (declared setup) sets >> either (Left . BadSetting) Right (applySettings sets mem)
+-- inlined: a call that sets nothing then builds no Right
+{-# INLINE callSettings #-}
 
 -- | 'runModule' with tracing on (docs/trace.md): the outcome, which is the
 -- untraced run's, and the events of every call, each call's after a
