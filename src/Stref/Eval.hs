@@ -1460,6 +1460,10 @@ compileFor ctx line cv start end by body = \e m ->
                 Exiting -> pure Next
                 other -> pure other
             else pure Next
+    -- inlined at both uses, each with its own bounds (left to GHC, it was
+    -- no longer inlined once the FOR test and forNext were shared, and
+    -- bounds was an unknown call with a new continuation every iteration)
+    {-# INLINE loop #-}
     -- the same loop for the common case, an integer control variable with
     -- bounds evaluated once and @stop-at-end@, on machine integers
     intLoop rd wr box lo hi enI stI e m =
@@ -1494,7 +1498,8 @@ compileFor ctx line cv start end by body = \e m ->
       case forNext pol t intRangeInt c s of
         LeavesRange -> pure Exiting
         NotANumber -> Failing <$ malformed line m
-        NextValue o -> do
+        NextValue n -> Next <$ writeCv n e m
+        NextSum o -> do
           n <- outcome line m o
           bad <- hasFailed m
           if bad then pure Failing else Next <$ writeCv n e m
@@ -1509,22 +1514,24 @@ forContinues zero s c en
 {-# INLINE forContinues #-}
 
 -- | What follows the body of a FOR, under @for-at-type-max@ (decision A14,
--- MT-STMT-21 b): the control variable's next value (an operator's outcome,
--- with its effect on INTERNAL_OVERFLOW under @follow-overflow-policy@), or
--- the end of the loop because cv + step leaves the type's range (given as
--- machine integers, for an integer control variable).
-data ForNext = NextValue O.Outcome | LeavesRange | NotANumber
+-- MT-STMT-21 b): the control variable's next value, the addition under the
+-- overflow policy with its effect on INTERNAL_OVERFLOW (@follow-overflow-policy@),
+-- or the end of the loop because cv + step leaves the type's range (given
+-- as machine integers, for an integer control variable). A plain value is
+-- not made an operator's outcome: the fast loop would build and take
+-- apart one on every iteration.
+data ForNext = NextValue Value | NextSum O.Outcome | LeavesRange | NotANumber
 
 forNext :: Policies -> BasicType -> Maybe (Int, Int) -> Value -> Value -> ForNext
 forNext pol t range c s = case pForAtTypeMax pol of
   StopAtEnd -> case (valueToInt c, valueToInt s, range) of
     (Just ci, Just si, Just (lo, hi))
       | ci + si < lo || ci + si > hi -> LeavesRange
-      | otherwise -> NextValue (Right (intToValue t (ci + si), Nothing))
+      | otherwise -> NextValue (intToValue t (ci + si))
     _ -> case (c, s) of
-      (VReal x, VReal y) -> NextValue (Right (VReal (x + y), Nothing))
+      (VReal x, VReal y) -> NextValue (VReal (x + y))
       _ -> NotANumber
-  FollowOverflowPolicy -> NextValue (O.arith pol OpAdd c s)
+  FollowOverflowPolicy -> NextSum (O.arith pol OpAdd c s)
 {-# INLINE forNext #-}
 
 -- | Numeric order of two values of one type (integers and bit strings by
@@ -1910,10 +1917,13 @@ tracedFor ctx line cv start end by body = \e m ->
             showValue c <> " + " <> showValue s <> " leaves " <> typeName t <> ": the loop ends, " <> name <> " keeps " <> showValue c
           pure Exiting
         NotANumber -> Failing <$ malformed line m
-        NextValue o -> do
+        NextValue n -> wroteCv n
+        NextSum o -> do
           n <- tracedOutcome pol line line m t (showValue c <> " + " <> showValue s) Nothing o
           bad <- hasFailed m
-          if bad then pure Failing else Next <$ (writeCv n e m >> traceEvent m (Wrote line name (showValue n)))
+          if bad then pure Failing else wroteCv n
+      where
+        wroteCv n = Next <$ (writeCv n e m >> traceEvent m (Wrote line name (showValue n)))
 
 arithSymbol :: ArithOp -> Text
 arithSymbol = \case
