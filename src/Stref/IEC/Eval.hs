@@ -39,7 +39,7 @@ import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord3
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, isConversionName, truncTo)
 import Stref.IEC.Memory (Layout (..), areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, noFBs, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
-import Stref.IEC.Operators (binaryWhy, unary, wrapUnder)
+import Stref.IEC.Operators (binary, binaryWhy, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
 import Stref.IEC.Types
@@ -777,8 +777,11 @@ eval ce = case ceNode ce of
     pol <- asks cxPol
     vs <- mapM eval args
     r <- orFault (cePos ce) (standard pol f (map ceType args) vs)
+    -- a conversion function is told as CConvert is; whether f is one is
+    -- asked only when tracing (the name is parsed each time)
+    on <- tracing
     case vs of
-      [v] | isConversionName pol f -> converted (cePos ce) v r
+      [v] | on && isConversionName pol f -> converted (cePos ce) v r
       _ -> pure r
   CCall f ins inouts outs -> callFunction (cePos ce) f ins inouts outs
   CMethod d r ins inouts outs -> callMethod (cePos ce) d r ins inouts outs
@@ -796,10 +799,13 @@ eval ce = case ceNode ce of
 operate :: Pos -> BinOp -> Value -> Value -> Eval Value
 operate p o x y = do
   pol <- asks cxPol
-  let (r, why) = binaryWhy pol o x y
   on <- tracing
-  when on $ mapM_ (note . Rule (posLine p)) why
-  orFault p r
+  if on
+    then do
+      let (r, why) = binaryWhy pol o x y
+      mapM_ (note . Rule (posLine p)) why
+      orFault p r
+    else orFault p (binary pol o x y)
 
 -- | A conversion's result; when tracing, a result that is not its
 -- argument's number is shown with the policy that made it so:

@@ -180,77 +180,96 @@ maxStringLength = 65535
 
 -- | @a op b@ on values of the types 'binaryType' accepts.
 binary :: Policies -> BinOp -> Value -> Value -> Either Fault Value
-binary p op a b = fst (binaryWhy p op a b)
+binary p BPow a b = power p a b
+binary p op a b = case (a, b) of
+  (VInt e x, VInt e' y) | e == e' -> intBinary p op e x y
+  (VReal x, VReal y) -> realBinary p VReal op x y
+  (VLReal x, VLReal y) -> realBinary p VLReal op x y
+  (VBool x, VBool y) -> boolBinary op x y
+  (VString x, VString y) -> stringBinary op x y
+  (VEnum t x, VEnum t' y) | T.toUpper t == T.toUpper t' -> enumBinary op x y
+  _ -> timeBinary p op a b
 
 -- | 'binary' with the rules that decided its outcome where a policy did
--- (integer overflow, division and MOD by zero): what a trace shows.
+-- (integer overflow, division and MOD by zero): what a trace shows. Apart
+-- from 'binary', which an untraced run calls and which then builds none
+-- of it.
 binaryWhy :: Policies -> BinOp -> Value -> Value -> (Either Fault Value, [Decision])
-binaryWhy p BPow a b = (power p a b, [])
-binaryWhy p op a b = case (a, b) of
-  (VInt e x, VInt e' y) | e == e' -> intBinary p op e x y
-  (VReal x, VReal y) -> realWhy (realBinary p VReal op x y) x y
-  (VLReal x, VLReal y) -> realWhy (realBinary p VLReal op x y) x y
-  (VBool x, VBool y) -> plain (boolBinary op x y)
-  (VString x, VString y) -> plain (stringBinary op x y)
-  (VEnum t x, VEnum t' y) | T.toUpper t == T.toUpper t' -> plain (enumBinary op x y)
-  _ -> timeWhy (timeBinary p op a b)
+binaryWhy p op a b = (r, why)
   where
-    plain r = (r, [])
-    outcome = either (const "a runtime error") (\v -> "the result is " <> renderValue v)
+    r = binary p op a b
+    why = case (a, b) of
+      (VInt e x, VInt e' y) | e == e' -> intDecisions p op e x y r
+      (VReal x, VReal y) -> realWhy x y
+      (VLReal x, VLReal y) -> realWhy x y
+      (VTime e x, VTime e' y) | e == e' -> timeWhy e x y
+      _ -> []
+    outcome = either (const "a runtime error") (\v -> "the result is " <> renderValue v) r
+    written = renderValue a <> " " <> binOpSymbol op <> " " <> renderValue b
     -- the decisions of REAL arithmetic: an infinite result of finite
     -- operands (TC-OP-26, real-overflow), a division by zero (TC-OP-22,
     -- real-div-zero)
-    realWhy r x y
-      | op == BDiv, y == 0 = (r, [ruled ["TC-OP-22", "TC-OP-26", "NX-ERR-10"] "real-div-zero" (written <> ": division by zero gives " <> either (const "a runtime error") renderValue r)])
+    realWhy x y
+      | op == BDiv, y == 0 = [ruled ["TC-OP-22", "TC-OP-26", "NX-ERR-10"] "real-div-zero" (written <> ": division by zero gives " <> either (const "a runtime error") renderValue r)]
       | Just exact <- realArith op x y, finite x, finite y, isInfinite exact =
-          (r, [ruled ["TC-OP-26"] "real-overflow" (written <> " leaves the range of " <> describe a <> ": " <> outcome r)])
-      | otherwise = (r, [])
-    written = renderValue a <> " " <> binOpSymbol op <> " " <> renderValue b
+          [ruled ["TC-OP-26"] "real-overflow" (written <> " leaves the range of " <> describe a <> ": " <> outcome)]
+      | otherwise = []
     -- a duration's sum or difference outside its range: the overflow
     -- policy over the range time-range gives (TC-OP-49, TC-OP-52,
     -- TC-TYPE-19, NX-TYPE-30, NX-TYPE-34)
-    timeWhy r = case (a, b) of
-      (VTime e x, VTime e' y)
-        | e == e', op `elem` [BAdd, BSub], let n = if op == BAdd then x + y else x - y, not (fitsUnder p e n) ->
-            (r, [ruled ["TC-OP-49", "TC-OP-52", "TC-TYPE-19", "NX-TYPE-30", "NX-TYPE-34"] "overflow" (renderValue a <> " " <> binOpSymbol op <> " " <> renderValue b <> " lies outside " <> elemName e <> " (time-range=" <> timeRangeName <> "): " <> outcome r)])
-      _ -> plain r
+    timeWhy e x y
+      | op `elem` [BAdd, BSub], let n = if op == BAdd then x + y else x - y, not (fitsUnder p e n) =
+          [ruled ["TC-OP-49", "TC-OP-52", "TC-TYPE-19", "NX-TYPE-30", "NX-TYPE-34"] "overflow" (written <> " lies outside " <> elemName e <> " (time-range=" <> timeRangeName <> "): " <> outcome)]
+      | otherwise = []
     timeRangeName = if pTimeRange p == TimeUnsigned then "unsigned" else "signed"
 
 -- | Integers (ANY_INT) and bit strings (ANY_BIT without BOOL).
-intBinary :: Policies -> BinOp -> Elem -> Integer -> Integer -> (Either Fault Value, [Decision])
+intBinary :: Policies -> BinOp -> Elem -> Integer -> Integer -> Either Fault Value
 intBinary p op e x y = case op of
-  BAdd -> fitted (x + y)
-  BSub -> fitted (x - y)
-  BMul -> fitted (x * y)
-  BDiv
-    | y == 0 ->
-        -- TC-OP-22
-        ( divisionByZero p (VInt e 0)
-        , [ruled ["TC-OP-22", "NX-OP-29"] "div-zero" (expression <> ": division by zero " <> either (const "is a runtime error") (const "gives 0") (divisionByZero p (VInt e 0)))]
-        )
-    -- TC-OP-21: truncation toward zero (mod-sign=dividend) or the floor of
-    -- the euclidean division; only the most negative value / -1 leaves the
-    -- range, and then the overflow policy decides.
-    | otherwise -> fitted (divideInt (pModSign p) x y)
+  BDiv | y == 0 -> divisionByZero p (VInt e 0) -- TC-OP-22
   BMod
     | y == 0 -> case pModZero p of -- TC-OP-24
-        ModZeroZero -> (Right (VInt e 0), [modZero "gives 0"])
-        ModZeroError -> (Left (Fault "division-by-zero" "MOD by zero"), [modZero "is a runtime error"])
-    | otherwise -> fitted (moduloInt (pModSign p) x y) -- TC-OP-23
-  BAnd -> (Right (VInt e (x .&. y)), []) -- TC-OP-39: bit by bit
-  BOr -> (Right (VInt e (x .|. y)), [])
-  BXor -> (Right (VInt e (x `xor` y)), [])
-  _ -> (VBool <$> compareWith op x y, [])
+        ModZeroZero -> Right (VInt e 0)
+        ModZeroError -> Left (Fault "division-by-zero" "MOD by zero")
+  BAnd -> Right (VInt e (x .&. y)) -- TC-OP-39: bit by bit
+  BOr -> Right (VInt e (x .|. y))
+  BXor -> Right (VInt e (x `xor` y))
+  _ -> maybe (VBool <$> compareWith op x y) (intResult p e) (exactInt p op x y)
+
+-- | The exact result of an arithmetic operator on integers, before it is
+-- fitted into the type ('intResult'); none for the other operators and for
+-- a zero divisor.
+exactInt :: Policies -> BinOp -> Integer -> Integer -> Maybe Integer
+exactInt p op x y = case op of
+  BAdd -> Just (x + y)
+  BSub -> Just (x - y)
+  BMul -> Just (x * y)
+  -- TC-OP-21: truncation toward zero (mod-sign=dividend) or the floor of
+  -- the euclidean division; only the most negative value / -1 leaves the
+  -- range, and then the overflow policy decides.
+  BDiv | y /= 0 -> Just (divideInt (pModSign p) x y)
+  BMod | y /= 0 -> Just (moduloInt (pModSign p) x y) -- TC-OP-23
+  _ -> Nothing
+{-# INLINE exactInt #-}
+
+-- | What decided an integer operator's result @r@: division or MOD by
+-- zero, or an exact result that left the type (TC-OP-20, NX-OP-32; a bit
+-- string has no overflow).
+intDecisions :: Policies -> BinOp -> Elem -> Integer -> Integer -> Either Fault Value -> [Decision]
+intDecisions p op e x y r = case op of
+  BDiv | y == 0 -> [ruled ["TC-OP-22", "NX-OP-29"] "div-zero" (expression <> ": division by zero " <> failsOr "gives 0")]
+  BMod | y == 0 -> [ruled ["TC-OP-24", "NX-DIFF-8"] "mod-zero" (expression <> ": MOD by zero " <> failsOr "gives 0")]
+  _ -> case exactInt p op x y of
+    Just n
+      | left n && not (isBitString e) ->
+          [ruled ["TC-OP-20", "NX-OP-32", "NX-ERR-24"] "overflow" (expression <> " = " <> T.pack (show n) <> " lies outside " <> elemName e <> ": " <> either (const "a runtime error") (\v -> "the result is " <> renderValue v) r)]
+    _ -> []
   where
     expression = T.pack (show x) <> " " <> binOpSymbol op <> " " <> T.pack (show y)
-    fitted n =
-      let r = intResult p e n
-          -- TC-OP-20, NX-OP-32: the exact result left the type
-          left = case r of
-            Right (VInt _ m) -> m /= n
-            _ -> True
-       in (r, [ruled ["TC-OP-20", "NX-OP-32", "NX-ERR-24"] "overflow" (expression <> " = " <> T.pack (show n) <> " lies outside " <> elemName e <> ": " <> either (const "a runtime error") (\v -> "the result is " <> renderValue v) r) | left, not (isBitString e)])
-    modZero what = ruled ["TC-OP-24", "NX-DIFF-8"] "mod-zero" (expression <> ": MOD by zero " <> what)
+    failsOr what = either (const "is a runtime error") (const what) r
+    left n = case r of
+      Right (VInt _ m) -> m /= n
+      _ -> True
 
 -- | The quotient: truncated toward zero (@mod-sign=dividend@, TC-OP-21) or
 -- euclidean (the remainder is never negative). Always
