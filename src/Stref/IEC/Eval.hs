@@ -282,6 +282,20 @@ noteWith ev = do
 tracing :: Eval Bool
 tracing = gets (isJust . mTrace)
 
+-- | An action, then, when the run is traced, the event its result makes.
+-- Untraced, the action is all that runs, with nothing bound after it (for
+-- the most frequent events: reads, writes, statements).
+noting :: (Ctx -> a -> Event) -> Eval a -> Eval a
+noting ev act = do
+  on <- tracing
+  if on then act >>= \x -> x <$ noteWith (`ev` x) else act
+{-# INLINE noting #-}
+
+-- | A statement, told when it is done.
+statement :: Pos -> Eval () -> Eval ()
+statement p = noting (\_ _ -> Statement (posLine p))
+{-# INLINE statement #-}
+
 -- | A runtime error in the trace, with the rule that makes it one.
 traceFault :: Policies -> Pos -> Fault -> Machine -> Machine
 traceFault pol p f m = m {mTrace = emit (Failure (posLine p) rule (faultMessage f)) <$> mTrace m}
@@ -533,15 +547,14 @@ execBlock ss
 
 exec :: CStmt -> Eval ()
 exec = \case
-  CAssign p r t e -> do
+  CAssign p r t e -> statement p $ do
     -- TC-STMT-7
     tick p
     v <- eval e
     target <- local (\c -> c {cxWriting = True}) (refPath p r)
     storeTarget p t r target v
-    note (Statement (posLine p))
-  CCallFB p c -> tick p >> callFB p c >> note (Statement (posLine p))
-  CEval p e -> tick p >> eval e >> note (Statement (posLine p))
+  CCallFB p c -> statement p (tick p >> callFB p c)
+  CEval p e -> statement p (tick p >> () <$ eval e)
   CIf p arms els -> do
     -- TC-STMT-9
     tick p
@@ -713,9 +726,7 @@ eval ce = case ceNode ce of
   CConst v -> pure v
   CRead r -> do
     path <- refPath (cePos ce) r
-    v <- getRef (cePos ce) r path
-    noteWith (\c -> Read (posLine (cePos ce)) (refName c r path) (renderValue v))
-    pure v
+    noting (\c v -> Read (posLine (cePos ce)) (refName c r path) (renderValue v)) (getRef (cePos ce) r path)
   CUnary o a -> do
     pol <- asks cxPol
     v <- eval a
@@ -977,10 +988,9 @@ located l t = do
 storeTarget :: Pos -> Type -> CRef -> RefPath -> Value -> Eval ()
 storeTarget p t r path v = do
   v' <- fitValue p t v
-  case r of
+  noting (\c _ -> Wrote (posLine p) (refName c r path) (renderValue v')) $ case r of
     CLocated l _ -> modify' (\m -> m {mMemory = writeLocated l t v' (mMemory m)})
     _ -> putPath path v'
-  noteWith (\c -> Wrote (posLine p) (refName c r path) (renderValue v'))
 
 storePath :: Pos -> Type -> RefPath -> Value -> Eval ()
 storePath p t path v = fitValue p t v >>= putPath path
