@@ -7,6 +7,10 @@ module Stref.IEC.Engine
   , runProgram
   , runProgramTraced
   , runProgramWatched
+  , runProgramWith
+  , Evaluator (..)
+  , cycleFunction
+  , setPath
   , Call (..)
   , RunResult (..)
   , parseVarPath
@@ -29,6 +33,7 @@ import Stref.Conformance.Protocol
 import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
 import Stref.IEC.Checked
 import Stref.IEC.Eval
+import Stref.IEC.Fast (fastCycle)
 import Stref.IEC.Memory (unionMember)
 import Stref.IEC.Parser (parseUnit, parseUnitExpr)
 import Stref.IEC.Syntax
@@ -74,9 +79,30 @@ runProgramTraced traced pol file src choice cycle initial calls =
 -- program and the machine after each cycle (@stref run --watch@), by cycle
 -- number.
 runProgramWatched :: Maybe (Program -> Machine -> a) -> Maybe Bool -> Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text (RunResult, [(Int, a)]))
-runProgramWatched observer traced pol file src choice cycle initial calls = do
+runProgramWatched = runProgramWith FastWhereItApplies
+
+-- | Which evaluator runs the scan cycles of an untraced run: the readable
+-- one ("Stref.IEC.Eval", the definition), or the fast one
+-- ("Stref.IEC.Fast") where the program lies in its slice, which gives the
+-- same machines and errors (test/IEC/FastSpec.hs; docs/architecture.md).
+-- A traced run is always the readable evaluator's.
+data Evaluator = Readable | FastWhereItApplies
+  deriving (Eq, Show)
+
+-- | The scan cycle of a program under an evaluator: @runCycle@, or the
+-- fast cycle where it applies.
+cycleFunction :: Evaluator -> Policies -> Program -> Integer -> Machine -> (Machine, Maybe Stop)
+cycleFunction ev pol prog = case ev of
+  FastWhereItApplies | Just fast <- fastCycle pol prog -> fast
+  _ -> runCycle pol prog
+
+-- | 'runProgramWatched' with the evaluator of the scan cycles.
+runProgramWith :: Evaluator -> Maybe (Program -> Machine -> a) -> Maybe Bool -> Policies -> FilePath -> Text -> ProgramChoice -> Integer -> [(Text, Scalar)] -> [Call] -> Either VerificationError (Either Text (RunResult, [(Int, a)]))
+runProgramWith ev observer traced pol file src choice cycle initial calls = do
   unit <- parseUnit pol file src
   prog <- checkUnit pol choice unit
+  -- translated once for the whole run
+  let scan = cycleFunction (maybe ev (const Readable) traced) pol prog
   pure $ do
     let (started, initError) = initialize pol prog Nothing (maybe id startTrace traced (initialMachine prog))
     m0 <- foldM (setPath pol prog) started initial
@@ -87,7 +113,7 @@ runProgramWatched observer traced pol file src choice cycle initial calls = do
            in go m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) seen rest
         go m k err seen (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
-          let (m2, stop) = runCycle pol prog (toInteger (k - 1) * cycle) (traceCycle k m1)
+          let (m2, stop) = scan (toInteger (k - 1) * cycle) (traceCycle k m1)
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
               -- nothing kept without an observer: a long run stays in constant memory
               seen' = maybe seen (\f -> (k, f prog m2) : seen) observer

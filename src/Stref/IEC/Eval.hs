@@ -20,6 +20,16 @@ module Stref.IEC.Eval
   , startTrace
   , traceCycle
   , traceOf
+    -- * Shared with the fast evaluator ("Stref.IEC.Fast")
+  , maxCallDepth
+  , watchdogFault
+  , fitWhy
+  , indexWhy
+  , ordinal
+  , asBool
+  , forDefaultStep
+  , forGoesOn
+  , forIncrement
   ) where
 
 import Control.Monad (forM, forM_, unless, when)
@@ -362,8 +372,12 @@ tick :: Pos -> Eval ()
 tick p = do
   budget <- asks (pStepBudget . cxPol)
   n <- gets mSteps
-  when (n >= budget) $ fault p (Fault "watchdog" ("the cycle ran more than " <> T.pack (show budget) <> " steps: the watchdog ends it (cycle error, TC-ERR-1)"))
+  when (n >= budget) $ fault p (watchdogFault budget)
   modify' (\m -> m {mSteps = n + 1})
+
+-- | The watchdog's error when the cycle exceeds its budget of steps.
+watchdogFault :: Int -> Fault
+watchdogFault budget = Fault "watchdog" ("the cycle ran more than " <> T.pack (show budget) <> " steps: the watchdog ends it (cycle error, TC-ERR-1)")
 
 ------------------------------------------------------------------------------
 -- POU calls
@@ -663,7 +677,7 @@ ordinal t v = case (v, t) of
 forLoop :: Pos -> CRef -> Type -> CExpr -> CExpr -> Maybe CExpr -> [CStmt] -> Eval ()
 forLoop p r t start end step body = do
   pol <- asks cxPol
-  let stepOf = maybe (pure (VInt (fromMaybe DINT (baseElem t)) 1)) eval step -- TC-STMT-22
+  let stepOf = maybe (pure (forDefaultStep t)) eval step
       l = posLine p
   s0 <- eval start
   target <- refPath p r
@@ -683,9 +697,7 @@ forLoop p r t start end step body = do
         e <- current e0 (eval end)
         st <- current st0 stepOf
         i <- getRef p r target
-        let n = intOf i
-            goOn = if intOf st >= 0 then n <= intOf e else n >= intOf e
-        if not goOn
+        if not (forGoesOn (intOf i) (intOf e) (intOf st))
           then note (LoopExit l (k - 1))
           else do
             note (Iteration l k)
@@ -695,13 +707,7 @@ forLoop p r t start end step body = do
               else do
                 i' <- getRef p r target
                 stNow <- current st0 stepOf
-                let elemT = fromMaybe DINT (valueElem i')
-                    next = intOf i' + intOf stNow
-                    -- a subrange's bounds are its type's limits (NX-STMT-22)
-                    fits = case t of
-                      TSubrange _ lo hi -> next >= lo && next <= hi
-                      _ -> fitInt elemT next
-                    ends = not fits && pForAtTypeMax pol == StopAtEnd
+                let (elemT, fits, ends) = forIncrement pol t i' (intOf stNow)
                 -- TC-STMT-31 (open): policy for-at-type-max
                 unless fits . note . Rule l . ruled ["TC-STMT-31", "NX-STMT-21"] "for-at-type-max" $
                   renderValue i' <> " + " <> T.pack (show (intOf stNow)) <> " leaves the type of the control variable: "
@@ -717,6 +723,28 @@ forLoop p r t start end step body = do
     intOf = \case
       VInt _ n -> n
       _ -> 0
+
+-- | TC-STMT-22: without BY the step is 1, of the control variable's type.
+forDefaultStep :: Type -> Value
+forDefaultStep t = VInt (fromMaybe DINT (baseElem t)) 1
+
+-- | TC-STMT-21, TC-STMT-23: does the loop run again with the control
+-- variable at n, the final value e and the step st?
+forGoesOn :: Integer -> Integer -> Integer -> Bool
+forGoesOn n e st = if st >= 0 then n <= e else n >= e
+
+-- | After an iteration: the type the step is added in, whether the control
+-- variable plus the step stays in its type (a subrange's bounds are its
+-- type's limits, NX-STMT-22), and whether the loop ends there (policy
+-- @for-at-type-max@, TC-STMT-31).
+forIncrement :: Policies -> Type -> Value -> Integer -> (Elem, Bool, Bool)
+forIncrement pol t i st =
+  let elemT = fromMaybe DINT (valueElem i)
+      next = (case i of VInt _ n -> n; _ -> 0) + st
+      fits = case t of
+        TSubrange _ lo hi -> next >= lo && next <= hi
+        _ -> fitInt elemT next
+   in (elemT, fits, not fits && pForAtTypeMax pol == StopAtEnd)
 
 ------------------------------------------------------------------------------
 -- Expressions
@@ -928,13 +956,9 @@ refPath p = \case
         checked <- forM (zip ns bs) $ \(n0, (lo, hi)) -> do
           -- NX-ERR-5..8: CheckBounds' result is the index
           n <- maybe n0 intValue <$> implicitCheck p "CHECKBOUNDS" [VInt DINT n0, VInt DINT lo, VInt DINT hi]
-          if n >= lo && n <= hi
-            then pure n
-            else case pIndexOutOfRange pol of
-              IndexClamp -> do
-                note (Rule (posLine p) (ruled ["TC-ERR-3", "NX-ERR-9"] "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": clamped to " <> T.pack (show (max lo (min hi n))))))
-                pure (max lo (min hi n))
-              _ -> fault p (Fault "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside the bounds " <> T.pack (show lo) <> ".." <> T.pack (show hi)))
+          let (r, why) = indexWhy pol (lo, hi) n
+          mapM_ (note . Rule (posLine p)) why
+          orFault p r
         pure (extend base (StepIndex checked))
       _ -> pure (extend base (StepIndex ns))
   CLocated l _ -> pure (RefPath (RootLocated (locText l)) [])
@@ -971,6 +995,16 @@ refPath p = \case
         VRef r -> pure r
         _ -> pure path
 
+-- | An index checked against its dimension's bounds (policy
+-- @index-out-of-range@, TC-ERR-3): the index used, and the rule when it
+-- was clamped.
+indexWhy :: Policies -> (Integer, Integer) -> Integer -> (Either Fault Integer, [Decision])
+indexWhy pol (lo, hi) n
+  | n >= lo && n <= hi = (Right n, [])
+  | otherwise = case pIndexOutOfRange pol of
+      IndexClamp -> (Right (max lo (min hi n)), [ruled ["TC-ERR-3", "NX-ERR-9"] "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": clamped to " <> T.pack (show (max lo (min hi n))))])
+      _ -> (Left (Fault "index-out-of-range" ("the index " <> T.pack (show n) <> " lies outside the bounds " <> T.pack (show lo) <> ".." <> T.pack (show hi))), [])
+
 -- | Read a reference (located variables from the bytes).
 getRef :: Pos -> CRef -> RefPath -> Eval Value
 getRef _ r path = case r of
@@ -996,35 +1030,48 @@ storePath :: Pos -> Type -> RefPath -> Value -> Eval ()
 storePath p t path v = fitValue p t v >>= putPath path
 
 fitValue :: Pos -> Type -> Value -> Eval Value
-fitValue p t v = do
+fitValue p t v0 = do
   pol <- asks cxPol
-  case (t, v) of
-    (TString _ cap, VString s)
-      | T.length s > cap -> case pStringOverflow pol of
-          StringTruncate -> do
-            -- TC-TYPE-27
-            note (Rule (posLine p) (ruled ["TC-TYPE-27", "NX-TYPE-27"] "string-overflow" ("a string of " <> T.pack (show (T.length s)) <> " characters is cut to the capacity " <> T.pack (show cap))))
-            pure (VString (T.take cap s))
-          StringOverflowError -> fault p (Fault "index-out-of-range" ("a string of " <> T.pack (show (T.length s)) <> " characters does not fit a STRING[" <> T.pack (show cap) <> "]"))
-    -- a value computed wider than its type (arith-width = promote-32) is
-    -- narrowed on the store, by the policy narrow-int
-    (TElem e, VInt _ n)
-      | isInt e && not (fitInt e n) -> do
-          let n' = case pNarrowInt pol of
-                NarrowWrap -> wrapInt e n
-                NarrowSaturate -> let (lo, hi) = intRange e in max lo (min hi n)
-          note (Rule (posLine p) (ruled ["TC-CONV-13", "NX-ERR-23"] "narrow-int" (T.pack (show n) <> " does not fit " <> elemName e <> ": stored as " <> T.pack (show n'))))
-          pure (VInt e n')
-    (TSubrange e lo hi, VInt _ n0) -> do
+  v <- case (t, v0) of
+    (TSubrange e lo hi, VInt e' n0) -> do
       -- NX-ERR-15, NX-ERR-16: CheckRangeSigned/Unsigned's result is stored
       let name = if isSignedInt e then "CHECKRANGESIGNED" else "CHECKRANGEUNSIGNED"
-      n <- maybe n0 intValue <$> implicitCheck p name [VInt DINT n0, VInt DINT lo, VInt DINT hi]
-      when ((n < lo || n > hi) && pSubrange pol == SubrangeUnchecked) $
-        note (Rule (posLine p) (ruled ["TC-TYPE-33", "NX-ERR-17"] "subrange" (T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": stored unchecked")))
-      if (n < lo || n > hi) && pSubrange pol == SubrangeError
-        then fault p (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)"))
-        else pure (VInt e (wrapInt e n))
-    _ -> pure v
+      VInt e' . maybe n0 intValue <$> implicitCheck p name [VInt DINT n0, VInt DINT lo, VInt DINT hi]
+    _ -> pure v0
+  let (r, why) = fitWhy pol t v
+  mapM_ (note . Rule (posLine p)) why
+  orFault p r
+
+-- | The value a target of a declared type stores, and the rules a policy
+-- decided on the way: strings cut to their capacity (policy
+-- @string-overflow@), integers computed wider than their type narrowed
+-- (@narrow-int@), subranges checked (@subrange@).
+fitWhy :: Policies -> Type -> Value -> (Either Fault Value, [Decision])
+fitWhy pol t v = case (t, v) of
+  (TString _ cap, VString s)
+    | T.length s > cap -> case pStringOverflow pol of
+        StringTruncate ->
+          -- TC-TYPE-27
+          ( Right (VString (T.take cap s))
+          , [ruled ["TC-TYPE-27", "NX-TYPE-27"] "string-overflow" ("a string of " <> T.pack (show (T.length s)) <> " characters is cut to the capacity " <> T.pack (show cap))]
+          )
+        StringOverflowError -> (Left (Fault "index-out-of-range" ("a string of " <> T.pack (show (T.length s)) <> " characters does not fit a STRING[" <> T.pack (show cap) <> "]")), [])
+  -- a value computed wider than its type (arith-width = promote-32) is
+  -- narrowed on the store, by the policy narrow-int
+  (TElem e, VInt _ n)
+    | isInt e && not (fitInt e n) ->
+        let n' = case pNarrowInt pol of
+              NarrowWrap -> wrapInt e n
+              NarrowSaturate -> let (lo, hi) = intRange e in max lo (min hi n)
+         in (Right (VInt e n'), [ruled ["TC-CONV-13", "NX-ERR-23"] "narrow-int" (T.pack (show n) <> " does not fit " <> elemName e <> ": stored as " <> T.pack (show n'))])
+  (TSubrange e lo hi, VInt _ n)
+    | (n < lo || n > hi) && pSubrange pol == SubrangeError ->
+        (Left (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)")), [])
+    | otherwise ->
+        ( Right (VInt e (wrapInt e n))
+        , [ruled ["TC-TYPE-33", "NX-ERR-17"] "subrange" (T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": stored unchecked") | (n < lo || n > hi) && pSubrange pol == SubrangeUnchecked]
+        )
+  _ -> (Right v, [])
 
 rootValue :: Root -> Machine -> Maybe Value
 rootValue r m = case r of

@@ -1,0 +1,671 @@
+{-# OPTIONS_GHC -O2 #-}
+-- (the fast path is worth optimising even in a --fast build, as Stref.Eval)
+{-# LANGUAGE RankNTypes #-}
+
+-- | A faster evaluator of IEC scan cycles, for a slice of the language,
+-- checked against the readable one ("Stref.IEC.Eval", which stays the
+-- definition): @fastCycle pol prog@ gives, for a program inside the slice,
+-- a function that computes exactly what @runCycle pol prog@ computes (the
+-- same machine, the same stop with its position and fault) for an untraced
+-- machine; Nothing outside the slice, where the caller runs the readable
+-- evaluator.
+--
+-- How: the checked program is translated ONCE into closures (the style of
+-- "Stref.Eval"). Every variable is resolved to a slot of a flat mutable
+-- vector when the closures are built: an elementary value is one slot, a
+-- structure, an array or a user FB instance lays its parts out one after
+-- the other ('Shape'), a standard FB instance is one slot holding its whole
+-- instance, handed to its 'Native' meaning as it is. Each cycle loads the
+-- machine's values into the slots, runs the closures in 'ST' and rebuilds
+-- the machine from the slots. No rule is restated here: operators,
+-- conversions, standard functions and FBs, stores into a declared type,
+-- index checks, FOR's steps and the watchdog are the functions the readable
+-- evaluator calls (exported by "Stref.IEC.Eval" for that), called in the
+-- same order and at the same places, so that the results agree by
+-- construction; test/IEC/FastSpec.hs checks that they do, on the corpus and
+-- on generated programs.
+--
+-- The slice: elementary types, strings and enumerations, arrays and
+-- structures of them, globals and program instance variables, standard FB
+-- instances, user FUNCTION_BLOCKs and FUNCTIONs without VAR_IN_OUT,
+-- inheritance, methods or edge inputs; assignment, FB and function calls
+-- (with @=>@ outputs), IF, CASE, FOR, WHILE, REPEAT, EXIT, RETURN,
+-- CONTINUE inside a loop. Not in it: located variables and VAR_CONFIG,
+-- pointers, references to characters and bits, implicit check functions,
+-- CODESYS's MUX and SEL (which evaluate only the selected input), chained
+-- assignments, jumps, program calls. A machine of an unexpected shape makes
+-- the cycle run in the readable evaluator.
+module Stref.IEC.Fast
+  ( fastCycle
+  ) where
+
+import Control.Monad (ap, forM, forM_, liftM, when)
+import Control.Monad.ST (ST, runST)
+import Data.Foldable (foldlM)
+import Data.List (find)
+import qualified Data.Map as LM
+import qualified Data.Map.Strict as M
+import Data.Maybe (fromMaybe)
+import qualified Data.Sequence as Seq
+import Data.STRef
+import Data.Text (Text)
+import qualified Data.Vector.Mutable as MV
+import qualified Data.Vector.Unboxed.Mutable as MU
+import Stref.IEC.Checked
+import Stref.IEC.Conversions (convert, truncTo)
+import Stref.IEC.Eval
+import Stref.IEC.Operators (binary, unary, wrapUnder)
+import Stref.IEC.Standard (standard, timeFunction)
+import Stref.IEC.Syntax (BinOp (..), Pos (..), PouKind (..), Section (..))
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy
+
+------------------------------------------------------------------------------
+-- Where values lie
+
+-- | How a variable of a type lies in the slots.
+data Shape
+  = Leaf -- ^ an elementary value, a string, an enumerated value: one slot
+  | Opaque -- ^ a standard FB instance: one slot, its whole 'VInstance'
+  | Record !(Maybe Text) !(M.Map Text (Int, Shape)) !Int
+  -- ^ a structure (Nothing) or an instance of the named POU: its variables
+  -- by key, each at an offset; the size
+  | Array ![(Integer, Integer)] !Shape !Int !Int -- ^ bounds, the element's shape and size, the number of elements
+
+isLeaf :: Shape -> Bool
+isLeaf = \case
+  Leaf -> True
+  _ -> False
+
+size :: Shape -> Int
+size = \case
+  Leaf -> 1
+  Opaque -> 1
+  Record _ _ n -> n
+  Array _ _ esz n -> esz * n
+
+-- | Only data: no FB instance inside (such a value can be read and
+-- written whole).
+isData :: Shape -> Bool
+isData = \case
+  Leaf -> True
+  Opaque -> False
+  Record Nothing fs _ -> all (isData . snd) (M.elems fs)
+  Record {} -> False
+  Array _ e _ _ -> isData e
+
+record :: Maybe Text -> [(Text, Shape)] -> Shape
+record name fields =
+  let offs = scanl (+) 0 (map (size . snd) fields)
+   in Record name (M.fromList [(k, (o, s)) | ((k, s), o) <- zip fields offs]) (last offs)
+
+shapeOf :: Program -> Type -> Maybe Shape
+shapeOf prog = \case
+  TElem _ -> Just Leaf
+  TString _ _ -> Just Leaf
+  TEnum _ _ -> Just Leaf
+  TSubrange {} -> Just Leaf
+  TNumEnum {} -> Just Leaf
+  TArray bs t -> do
+    e <- shapeOf prog t
+    Just (Array bs e (size e) (fromInteger (product [hi - lo + 1 | (lo, hi) <- bs])))
+  TStruct _ fs -> record Nothing <$> mapM (\(n, t) -> (key n,) <$> shapeOf prog t) fs
+  TFB n -> do
+    d <- lookupPou prog n
+    case pdBody d of
+      Native _ -> Just Opaque
+      Statements _ -> pouShape prog d
+  _ -> Nothing
+
+-- | A POU's variables as an instance or a frame lays them out; Nothing
+-- for what the slice leaves out.
+pouShape :: Program -> PouDef -> Maybe Shape
+pouShape prog d = do
+  let vars = pdVars d
+  when (pdBase d /= Nothing || any (\v -> viSection v == SecInOut || viEdge v /= Nothing) vars) Nothing
+  record (Just (pdName d)) <$> mapM (\v -> (viKey v,) <$> shapeOf prog (viType v)) vars
+
+-- | Put a value into the slots; False when its shape is not the expected one.
+load :: MV.MVector s Value -> Int -> Shape -> Value -> ST s Bool
+load vec off sh v = case (sh, v) of
+  (Leaf, _) -> True <$ MV.write vec off v
+  (Opaque, VInstance {}) -> True <$ MV.write vec off v
+  (Record _ fs _, VStruct m) -> fields fs m
+  (Record _ fs _, VInstance _ m) -> fields fs m
+  (Array bs e esz n, VArray bs' xs)
+    | bs == bs' && Seq.length xs == n ->
+        foldlM (\ok (i, x) -> if ok then load vec (off + i * esz) e x else pure False) True (zip [0 ..] (foldr (:) [] xs))
+  _ -> pure False
+  where
+    fields fs m
+      | M.keys fs == M.keys m = foldlM (\ok ((o, s), x) -> if ok then load vec (off + o) s x else pure False) True (M.elems (M.intersectionWith (,) fs m))
+      | otherwise = pure False
+
+-- | A value rebuilt from the slots, on the pattern of the value loaded.
+rebuild :: MV.MVector s Value -> Int -> Shape -> Value -> ST s Value
+rebuild vec off sh old = case (sh, old) of
+  (Record _ fs _, VStruct m) -> VStruct <$> M.traverseWithKey (field fs) m
+  (Record _ fs _, VInstance n m) -> VInstance n <$> M.traverseWithKey (field fs) m
+  (Array _ e esz _, VArray bs xs) -> VArray bs <$> Seq.traverseWithIndex (\i -> rebuild vec (off + i * esz) e) xs
+  _ -> MV.read vec off
+  where
+    field fs k x = maybe (pure x) (\(o, s) -> rebuild vec (off + o) s x) (M.lookup k fs)
+
+-- | A value built from the slots alone (data, and frames).
+build :: MV.MVector s Value -> Int -> Shape -> ST s Value
+build vec off = \case
+  Record name fs _ -> do
+    m <- M.fromDistinctAscList <$> forM (M.toAscList fs) (\(k, (o, s)) -> (k,) <$> build vec (off + o) s)
+    pure (maybe (VStruct m) (`VInstance` m) name)
+  Array bs e esz n -> VArray bs . Seq.fromList <$> forM [0 .. n - 1] (\i -> build vec (off + i * esz) e)
+  _ -> MV.read vec off
+
+------------------------------------------------------------------------------
+-- The running machine
+
+data Env s = Env
+  { eStore :: !(MV.MVector s Value) -- ^ globals and program instances
+  , eSelf :: !(MV.MVector s Value) -- ^ the slots of the running POU's instance or frame
+  , eBase :: !Int -- ^ where in them its variables start
+  , eDepth :: !Int -- ^ the nesting of calls (the readable evaluator's cxDepth)
+  , eSteps :: !(MU.MVector s Int) -- ^ the watchdog's count (mSteps)
+  , eFrames :: !(STRef s [(Int, Shape, MV.MVector s Value)]) -- ^ the frames of the function calls under way, by depth (mFrames)
+  , eClock :: !Integer
+  }
+
+-- | Why the closures stopped: a runtime error, or something the slice did
+-- not expect (the cycle then runs in the readable evaluator).
+data Abort = Faulted !Pos !Fault | Bail
+
+newtype M s a = M {unM :: Env s -> ST s (Either Abort a)}
+
+instance Functor (M s) where
+  fmap = liftM
+
+instance Applicative (M s) where
+  pure x = M (\_ -> pure (Right x))
+  (<*>) = ap
+
+instance Monad (M s) where
+  M m >>= k = M $ \e ->
+    m e >>= \case
+      Right x -> unM (k x) e
+      Left a -> pure (Left a)
+  {-# INLINE (>>=) #-}
+
+st :: ST s a -> M s a
+st act = M (\_ -> Right <$> act)
+{-# INLINE st #-}
+
+env :: M s (Env s)
+env = M (pure . Right)
+
+within :: (Env s -> Env s) -> M s a -> M s a
+within f (M m) = M (m . f)
+
+abort :: Abort -> M s a
+abort a = M (\_ -> pure (Left a))
+
+orFault :: Pos -> Either Fault a -> M s a
+orFault p = either (abort . Faulted p) pure
+
+-- | The readable evaluator's @tick@: one step of the watchdog's budget
+-- (TC-ERR-1), at the same places.
+tick :: Int -> Pos -> M s ()
+tick budget p = M $ \e -> do
+  n <- MU.read (eSteps e) 0
+  if n >= budget
+    then pure (Left (Faulted p (watchdogFault budget)))
+    else Right () <$ MU.write (eSteps e) 0 (n + 1)
+
+-- | The checks every call makes (@call-depth@).
+deeper :: Pos -> M s ()
+deeper p = do
+  d <- eDepth <$> env
+  when (d >= maxCallDepth) (abort (Faulted p (Fault "call-depth" "calls nest too deeply")))
+
+-- | A store into a target of a declared type (the readable @fitValue@
+-- without check functions, which the slice leaves out).
+fit :: Policies -> Pos -> Type -> Value -> M s Value
+fit pol p t v = orFault p (fst (fitWhy pol t v))
+
+------------------------------------------------------------------------------
+-- Places
+
+-- | Where a variable lies now: slots, or a variable of a standard FB
+-- instance (which lives in the instance's map).
+data Place s = Slot !(MV.MVector s Value) !Int | InFB !(MV.MVector s Value) !Int !Text
+
+newtype Ref = Ref (forall s. M s (Place s))
+
+readPlace :: Shape -> Place s -> M s Value
+readPlace sh = \case
+  Slot v o -> st (build v o sh)
+  -- a missing variable reads as the readable getPath's default
+  InFB v o k -> st (MV.read v o) >>= \case
+    VInstance _ m -> pure (M.findWithDefault (VBool False) k m)
+    _ -> pure (VBool False)
+
+writePlace :: Shape -> Place s -> Value -> M s ()
+writePlace sh pl x = case pl of
+  Slot v o -> case sh of
+    Leaf -> st (MV.write v o x)
+    _ -> st (load v o sh x) >>= \ok -> if ok then pure () else abort Bail
+  InFB v o k -> st $ MV.read v o >>= \case
+    VInstance n m -> MV.write v o (VInstance n (M.insert k x m))
+    _ -> pure ()
+
+------------------------------------------------------------------------------
+-- Translation
+
+data Cx = Cx
+  { cPol :: Policies
+  , cProg :: Program
+  , cGlobals :: M.Map Text (Int, Shape)
+  , cSelf :: M.Map Text (Int, Shape) -- ^ the running POU's variables
+  , cLoop :: Bool -- ^ inside a loop (CONTINUE is only translated there)
+  , cPous :: LM.Map Text (Maybe Code) -- ^ every user POU's translated body, built when first used
+  }
+
+-- | A POU's body: VAR_TEMP reset (TC-VAR-8), then its statements.
+data Code = Code Shape Body'
+
+newtype Body' = Body' (forall s. M s Flow)
+
+newtype Ex = Ex (forall s. M s Value)
+
+newtype St = St (forall s. M s Flow)
+
+-- | What an FB call runs on the instance at these slots.
+newtype Callee = Callee (forall s. MV.MVector s Value -> Int -> M s ())
+
+-- | How a statement ended: on to the next, or EXIT, RETURN, CONTINUE.
+data Flow = Next | Exited | Returned | Continued
+
+-- | The readable evaluator's @runCycle@ for programs of the slice.
+fastCycle :: Policies -> Program -> Maybe (Integer -> Machine -> (Machine, Maybe Stop))
+fastCycle pol prog = do
+  when (not (null (prChecks prog)) || not (null (prVarConfig prog))) Nothing
+  gshapes <- forM [v | v <- prGlobals prog, viAt v == Nothing] $ \v -> (viKey v,) <$> shapeOf prog (viType v)
+  let instances = [(key i, d) | (i, t) <- prInstances prog, Just d <- [lookupPou prog t]]
+      distinct = M.toList (M.fromList instances)
+  pshapes <- forM distinct $ \(k, d) -> (k,) <$> pouShape prog d
+  let place base xs = zip (map fst xs) (zip (scanl (+) base (map (size . snd) xs)) (map snd xs))
+      globals = place 0 gshapes
+      progs = place (sum (map (size . snd) gshapes)) pshapes
+      total = sum (map (size . snd) (gshapes ++ pshapes))
+      cx = Cx pol prog (M.fromList globals) M.empty False pous
+      pous = LM.fromList [(k, translatePou cx d) | (k, d) <- M.toList (prPous prog), Statements _ <- [pdBody d]]
+  runs <- forM instances $ \(k, d) -> do
+    Code _ (Body' body) <- join' (LM.lookup (key (pdName d)) pous)
+    (base, _) <- lookup k progs
+    Just (Body' (within (\e -> e {eSelf = eStore e, eBase = base}) body))
+  let cycleWith clock m0 = runST $ do
+        store <- MV.new total
+        ok <- foldlM (\ok (k, (o, s)) -> if ok then maybe (pure False) (load store o s) (M.lookup k (mGlobals m0)) else pure False) True globals
+        ok' <- foldlM (\ok (k, (o, s)) -> if ok then maybe (pure False) (load store o s) (M.lookup k (mPrograms m0)) else pure False) ok progs
+        if not ok'
+          then pure Nothing
+          else do
+            steps <- MU.replicate 1 0
+            frames <- newSTRef []
+            let e = Env store store 0 0 steps frames clock
+            r <- unM (mapM_ (\(Body' b) -> b) runs) e
+            let restore pairs src = foldlM (\m (k, (o, s)) -> maybe (pure m) (\old -> (\v -> M.insert k v m) <$> rebuild store o s old) (M.lookup k m)) src pairs
+            gs <- restore globals (mGlobals m0)
+            ps <- restore progs (mPrograms m0)
+            n <- MU.read steps 0
+            let m1 = m0 {mGlobals = gs, mPrograms = ps, mClock = clock, mSteps = n, mFrames = M.empty}
+            case r of
+              Left Bail -> pure Nothing
+              Left (Faulted p f) -> do
+                fs <- readSTRef frames
+                open <- forM fs $ \(d, s, v) -> (d,) <$> build v 0 s
+                pure (Just (m1 {mFrames = M.fromList open}, Just (StopFault p f)))
+              Right () -> pure (Just (m1, Nothing))
+  pure $ \clock m0 -> case mTrace m0 of
+    Nothing | Just r <- cycleWith clock m0 -> r
+    _ -> runCycle pol prog clock m0
+  where
+    join' = fromMaybe Nothing
+
+translatePou :: Cx -> PouDef -> Maybe Code
+translatePou cx d = do
+  sh <- pouShape (cProg cx) d
+  fields <- case sh of
+    Record _ fs _ -> Just fs
+    _ -> Nothing
+  ss <- case pdBody d of
+    Statements ss -> Just ss
+    Native _ -> Nothing
+  let cx' = cx {cSelf = fields, cLoop = False}
+  St body <- block cx' ss
+  temps <- forM [v | v <- pdVars d, viSection v == SecTemp] $ \v -> (\(o, s) -> (o, s, viInit v)) <$> M.lookup (viKey v) fields
+  pure $ Code sh $ Body' $ do
+    e <- env
+    forM_ temps $ \(o, s, x) -> writePlace s (Slot (eSelf e) (eBase e + o)) x
+    body
+
+-- | A block: its statements in turn, until one ends it.
+block :: Cx -> [CStmt] -> Maybe St
+block cx ss = do
+  sts <- mapM (stmt cx) ss
+  let go [] = pure Next
+      go (St s : rest) = s >>= \case
+        Next -> go rest
+        fl -> pure fl
+  Just (St (go sts))
+
+-- | A loop's body: Nothing when EXIT left the loop (TC-STMT-36, TC-STMT-37).
+loopBody :: St -> M s (Maybe Flow)
+loopBody (St s) = s >>= \case
+  Exited -> pure Nothing
+  Continued -> pure (Just Next)
+  fl -> pure (Just fl)
+
+stmt :: Cx -> CStmt -> Maybe St
+stmt cx = \case
+  CAssign p r t e -> do
+    -- TC-STMT-7: the value, then the target
+    Ex v <- expr cx e
+    (sh, Ref target) <- ref cx p r
+    writable sh t (ceType e)
+    Just $ St $ do
+      tk p
+      x <- v
+      pl <- target
+      x' <- fit pol p t x
+      Next <$ writePlace sh pl x'
+  CCallFB p c -> do
+    St call <- callFB cx p c
+    Just (St (tk p >> call))
+  CEval p e -> do
+    Ex v <- expr cx e
+    Just (St (tk p >> Next <$ v))
+  CIf p arms els -> do
+    -- TC-STMT-9
+    arms' <- forM arms $ \(c, b) -> (,) <$> expr cx c <*> block cx b
+    St els' <- block cx els
+    let go [] = els'
+        go ((Ex c, St b) : rest) = c >>= \x -> if asBool x then b else go rest
+    Just (St (tk p >> go arms'))
+  CCase p sel arms els -> do
+    -- TC-STMT-11..13: the first group whose labels hold the value
+    Ex s <- expr cx sel
+    arms' <- forM arms $ \(ranges, b) -> (ranges,) <$> block cx b
+    St els' <- block cx els
+    Just $ St $ do
+      tk p
+      o <- ordinal (ceType sel) <$> s
+      case find (\(ranges, _) -> any (\(lo, hi) -> o >= lo && o <= hi) ranges) arms' of
+        Just (_, St b) -> b
+        Nothing -> els'
+  CFor p r t start end step body -> forLoop cx p r t start end step body
+  CWhile p c body -> do
+    -- TC-STMT-32
+    Ex cond <- expr cx c
+    b <- block cx {cLoop = True} body
+    let loop = do
+          tk p
+          x <- cond
+          if asBool x
+            then loopBody b >>= maybe (pure Next) (\case Next -> loop; fl -> pure fl)
+            else pure Next
+    Just (St loop)
+  CRepeat p body c -> do
+    -- TC-STMT-33: at least once, until the condition holds
+    Ex cond <- expr cx c
+    b <- block cx {cLoop = True} body
+    let loop =
+          loopBody b >>= \case
+            Just Next -> do
+              tk p
+              x <- cond
+              if asBool x then pure Next else loop
+            Just fl -> pure fl
+            Nothing -> pure Next
+    Just (St loop)
+  CExit p -> Just (St (Exited <$ tk p))
+  CReturn p -> Just (St (Returned <$ tk p))
+  CContinue p | cLoop cx -> Just (St (Continued <$ tk p)) -- NX-STMT-35
+  _ -> Nothing
+  where
+    pol = cPol cx
+    tk = tick (pStepBudget pol)
+
+-- | A value of this type can be stored whole at a place of this shape: an
+-- elementary one, or data of the very type (the readable evaluator would
+-- store another array's bounds with its elements).
+writable :: Shape -> Type -> Type -> Maybe ()
+writable sh t from = case sh of
+  Leaf -> Just ()
+  _ | isData sh && t == from -> Just ()
+  _ -> Nothing
+
+-- | FOR (TC-STMT-18..31), as the readable @forLoop@: the same functions
+-- decide the step, the test and the increment.
+forLoop :: Cx -> Pos -> CRef -> Type -> CExpr -> CExpr -> Maybe CExpr -> [CStmt] -> Maybe St
+forLoop cx p r t start end step body = do
+  Ex s0 <- expr cx start
+  Ex e0 <- expr cx end
+  Ex stepOf <- maybe (Just (Ex (pure (forDefaultStep t)))) (expr cx) step
+  (sh, Ref target) <- ref cx p r
+  when (not (isLeaf sh)) Nothing
+  b <- block cx {cLoop = True} body
+  let pol = cPol cx
+      once = pForBounds pol == ForOnce
+  Just $ St $ do
+    x0 <- s0
+    pl <- target
+    fit pol p t x0 >>= writePlace Leaf pl
+    e0' <- e0
+    st0 <- stepOf
+    let current v ex = if once then pure v else ex
+        loop = do
+          tick (pStepBudget pol) p
+          e <- current e0' e0
+          stp <- current st0 stepOf
+          i <- readPlace Leaf pl
+          if not (forGoesOn (intOf i) (intOf e) (intOf stp))
+            then pure Next
+            else
+              loopBody b >>= \case
+                Just Next -> do
+                  i' <- readPlace Leaf pl
+                  stNow <- current st0 stepOf
+                  let (elemT, _, ends) = forIncrement pol t i' (intOf stNow)
+                  if ends
+                    then pure Next
+                    else do
+                      v <- orFault p (binary pol BAdd i' (VInt elemT (intOf stNow)))
+                      fit pol p t v >>= writePlace Leaf pl
+                      loop
+                Just fl -> pure fl
+                Nothing -> pure Next
+    loop
+  where
+    intOf = \case
+      VInt _ n -> n
+      _ -> 0
+
+-- | An FB call (TC-POU-33..36), as the readable @callFB@: the inputs
+-- evaluated, the instance found, the inputs stored, the body run on the
+-- instance, the @=>@ outputs copied.
+callFB :: Cx -> Pos -> FBCall -> Maybe St
+callFB cx p c = do
+  d <- lookupPou (cProg cx) (fcType c)
+  when (not (null (fcInOuts c))) Nothing
+  (sh, Ref inst) <- ref cx p (fcInstance c)
+  ins <- forM (fcInputs c) $ \(k, e) -> do
+    Ex v <- expr cx e
+    (o, s) <- member sh k
+    writable s (paramType d k) (ceType e)
+    Just (paramType d k, o, s, Ex v)
+  outs <- forM (fcOutputs c) $ \(k, r, t) -> do
+    (o, s) <- member sh k
+    (ts, Ref target) <- ref cx p r
+    when (not (isLeaf ts && isLeaf s)) Nothing
+    Just (o, Ref target, t)
+  Callee run <- case (sh, pdBody d) of
+    -- the standard FB's meaning on the instance's variables
+    (Opaque, Native f) -> Just $ Callee $ \vec o -> do
+      clock <- eClock <$> env
+      st $ MV.read vec o >>= \case
+        VInstance n vars -> MV.write vec o (VInstance n (f pol clock (M.union (temps d) vars)))
+        _ -> pure ()
+    (Record {}, Statements _) -> do
+      Code _ (Body' body) <- fromMaybe Nothing (LM.lookup (key (pdName d)) (cPous cx))
+      Just (Callee (\vec base -> () <$ within (\e -> e {eSelf = vec, eBase = base, eDepth = eDepth e + 1}) body))
+    _ -> Nothing
+  Just $ St $ do
+    vs <- mapM (\(_, _, _, Ex v) -> v) ins
+    pl <- inst
+    forM_ (zip ins vs) $ \((t, o, s, _), v) -> fit pol p t v >>= writePlace s (at pl o)
+    deeper p
+    case pl of
+      Slot vec base -> run vec base
+      InFB {} -> abort Bail
+    forM_ outs $ \(o, Ref target, t) -> do
+      v <- readPlace Leaf (at pl o)
+      tpl <- target
+      fit pol p t v >>= writePlace Leaf tpl
+    pure Next
+  where
+    pol = cPol cx
+    -- a native FB's VAR_TEMP (none of the standard ones has any)
+    temps d = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
+
+paramType :: PouDef -> Text -> Type
+paramType d k = maybe (TElem BOOL) viType (varByKey d k)
+
+-- | A variable of an instance: at an offset of its record, or (0) in a
+-- standard FB's map.
+member :: Shape -> Text -> Maybe (Either Text Int, Shape)
+member sh k = case sh of
+  Record _ fs _ -> (\(o, s) -> (Right o, s)) <$> M.lookup k fs
+  Opaque -> Just (Left k, Leaf)
+  _ -> Nothing
+
+at :: Place s -> Either Text Int -> Place s
+at pl m = case (pl, m) of
+  (Slot v o, Right o') -> Slot v (o + o')
+  (Slot v o, Left k) -> InFB v o k
+  (InFB v o k, _) -> InFB v o k
+
+-- | A function call (TC-POU-5, TC-POU-6), as the readable @callFunction@:
+-- the inputs evaluated, a fresh frame of initial values (which a runtime
+-- error inside leaves in the machine's frames), the inputs stored, the
+-- body, the @=>@ outputs copied, the result read.
+callFunction :: Cx -> Pos -> Text -> [(Text, CExpr)] -> [(Text, CRef, Type)] -> Maybe Ex
+callFunction cx p f ins outs = do
+  d <- lookupPou (cProg cx) f
+  when (pdKind d /= KFunction) Nothing
+  Code sh (Body' body) <- fromMaybe Nothing (LM.lookup (key (pdName d)) (cPous cx))
+  let initial = VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])
+  ins' <- forM ins $ \(k, e) -> do
+    Ex v <- expr cx e
+    (o, s) <- member sh k
+    writable s (paramType d k) (ceType e)
+    Just (paramType d k, o, s, Ex v)
+  outs' <- forM outs $ \(k, r, t) -> do
+    (o, s) <- member sh k
+    (ts, Ref target) <- ref cx p r
+    when (not (isLeaf ts && isLeaf s)) Nothing
+    Just (o, Ref target, t)
+  (result, rs) <- member sh (key (pdName d))
+  when (not (isLeaf rs)) Nothing
+  let pol = cPol cx
+  Just $ Ex $ do
+    vs <- mapM (\(_, _, _, Ex v) -> v) ins'
+    deeper p
+    e <- env
+    let depth = eDepth e + 1
+    vec <- st (MV.new (size sh))
+    ok <- st (load vec 0 sh initial)
+    when (not ok) (abort Bail)
+    st (modifySTRef' (eFrames e) ((depth, sh, vec) :))
+    let frame = Slot vec 0
+    forM_ (zip ins' vs) $ \((t, o, s, _), v) -> fit pol p t v >>= writePlace s (at frame o)
+    _ <- within (\e' -> e' {eSelf = vec, eBase = 0, eDepth = depth}) body
+    forM_ outs' $ \(o, Ref target, t) -> do
+      v <- readPlace Leaf (at frame o)
+      tpl <- target
+      fit pol p t v >>= writePlace Leaf tpl
+    x <- readPlace Leaf (at frame result)
+    st (modifySTRef' (eFrames e) (drop 1))
+    pure x
+
+-- | Where a reference lies, as the readable @refPath@: indices evaluated,
+-- then checked in turn (policy @index-out-of-range@).
+ref :: Cx -> Pos -> CRef -> Maybe (Shape, Ref)
+ref cx p = \case
+  CLocal k -> do
+    (o, s) <- M.lookup k (cSelf cx)
+    Just (s, Ref ((\e -> Slot (eSelf e) (eBase e + o)) <$> env))
+  CGlobal k -> do
+    (o, s) <- M.lookup k (cGlobals cx)
+    Just (s, Ref ((\e -> Slot (eStore e) o) <$> env))
+  CField r f -> do
+    (sh, Ref base) <- ref cx p r
+    (o, s) <- member sh f
+    Just (s, Ref ((`at` o) <$> base))
+  CIndex r ixs -> do
+    (Array bs e esz _, Ref base) <- ref cx p r
+    when (length ixs /= length bs) Nothing
+    is <- mapM (expr cx) ixs
+    let pol = cPol cx
+    Just $ (e,) $ Ref $ do
+      pl <- base
+      vs <- mapM (\(Ex i) -> i) is
+      ns <- forM vs $ \case
+        VInt _ n -> pure n
+        _ -> abort Bail
+      checked <- forM (zip ns bs) $ \(n, b) -> orFault p (fst (indexWhy pol b n))
+      -- TC-TYPE-43: the rightmost index varies fastest
+      let linear = foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1) + (i - lo)) 0 (zip bs checked)
+      case pl of
+        Slot v o -> pure (Slot v (o + fromInteger linear * esz))
+        InFB {} -> abort Bail
+  _ -> Nothing
+
+-- | An expression, as the readable @eval@, through the same meaning
+-- functions.
+expr :: Cx -> CExpr -> Maybe Ex
+expr cx ce = case ceNode ce of
+  CConst v -> Just (Ex (pure v))
+  CRead r -> do
+    (sh, Ref pl) <- ref cx pos r
+    if isData sh then Just (Ex (pl >>= readPlace sh)) else Nothing
+  CUnary o a -> do
+    Ex x <- expr cx a
+    Just (Ex (x >>= orFault pos . unary pol o))
+  CBinary o a b -> do
+    Ex x <- expr cx a
+    Ex y <- expr cx b
+    -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first
+    Just $ Ex $ do
+      u <- x
+      case (o, u, pShortCircuit pol) of
+        (BAnd, VBool False, ShortCircuit) -> pure u
+        (BOr, VBool True, ShortCircuit) -> pure u
+        _ -> y >>= orFault pos . binary pol o u
+  -- NX-CONV-35: TRUNC into another integer type
+  CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [a])) | isInt e -> do
+    Ex x <- expr cx a
+    Just (Ex (x >>= orFault pos . truncTo pol e))
+  CConvert t a -> do
+    Ex x <- expr cx a
+    Just (Ex (x >>= orFault pos . convert pol (ceType a) t))
+  -- NX-OP-87: TIME(), the clock in TIME's 32 bits
+  CStandard f [] | f == timeFunction -> Just (Ex (VTime TIME . wrapUnder pol TIME . eClock <$> env))
+  -- NX-OP-62, NX-OP-67: CODESYS evaluates only the selected input
+  CStandard f _ | f `elem` ["MUX", "SEL"], pExtensions pol == ExtensionsCodesys -> Nothing
+  CStandard f args -> do
+    xs <- mapM (expr cx) args
+    Just (Ex (mapM (\(Ex x) -> x) xs >>= orFault pos . standard pol f (map ceType args)))
+  CCall f ins [] outs -> callFunction cx pos f ins outs
+  _ -> Nothing
+  where
+    pol = cPol cx
+    pos = cePos ce

@@ -1,0 +1,111 @@
+-- | The fast IEC evaluator (Stref.IEC.Fast) against the readable one
+-- (Stref.IEC.Eval.runCycle, the definition): wherever the fast one accepts
+-- a program, every scan cycle gives the same machine and the same stop
+-- (position and fault), on the corpus cases of the IEC dialects and on
+-- generated programs. Each cycle starts both from the machine the readable
+-- evaluator left, so that a difference is seen at the cycle that makes it.
+-- The expected values are the readable evaluator's, never the fast one's.
+module IEC.FastSpec (spec) where
+
+import Control.Monad (foldM)
+import qualified Data.Map.Strict as M
+import Data.Maybe (isJust)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.IO as TIO
+import Stref.Conformance.Case (Case (..), effectiveExpect)
+import Stref.Conformance.Corpus (Corpus (..), Entry (..), loadCorpus)
+import Stref.Conformance.Protocol
+import Stref.Conformance.Runner (buildRequest, casePolicies, defaultRunOptions)
+import Stref.Generate.Iec
+import Stref.IEC.Check (ProgramChoice (..), checkUnit)
+import Stref.IEC.Checked (Program)
+import Stref.IEC.Engine
+import Stref.IEC.Eval
+import Stref.IEC.Fast (fastCycle)
+import Stref.IEC.Parser (parseUnit)
+import Stref.Policy
+import Test.Hspec
+import Test.QuickCheck
+
+-- | The checked program, or Nothing when the source is rejected.
+checked :: Policies -> ProgramChoice -> Text -> Maybe Program
+checked pol choice src = either (const Nothing) Just (parseUnit pol "fast.st" src >>= checkUnit pol choice)
+
+-- | A run as the engine makes it (initialisation, the variables written
+-- before each cycle, resets), with each cycle computed by both evaluators:
+-- the cycles where they differ. Nothing when the fast evaluator does not
+-- accept the program.
+differences :: Policies -> Program -> Integer -> [(Text, Scalar)] -> [Call] -> Maybe [String]
+differences pol prog cycle initial calls = do
+  fast <- fastCycle pol prog
+  let (started, initError) = initialize pol prog Nothing (initialMachine prog)
+      go _ _ [] = []
+      go m k (Reset ev : rest) = go (fst (restart pol prog ev m)) k rest
+      go m k (Scan sets : rest) = case foldM (setPath pol prog) m sets of
+        Left _ -> []
+        Right m1 ->
+          let clock = toInteger (k - 1) * cycle
+              readable@(m2, stop) = runCycle pol prog clock m1
+              other = fast clock m1
+              -- compared as shown: a NaN equals itself there, and -0.0 is not 0.0
+              here = ["cycle " <> show k <> ": readable " <> show stop <> ", fast " <> show (snd other) <> describe m2 (fst other) | show readable /= show other]
+           in here ++ case stop of
+                Just _ | pAfterError pol == StopController -> []
+                _ -> go m2 (k + 1) rest
+  pure $ case (initError, foldM (setPath pol prog) started initial) of
+    (Nothing, Right m0) -> go m0 (1 :: Int) calls
+    _ -> []
+  where
+    describe a b = concat [" (" <> what <> " differ)" | (what, f) <- [("globals", show . mGlobals), ("programs", show . mPrograms), ("frames", show . mFrames), ("steps", show . mSteps), ("memory", show . mMemory)], f a /= f b]
+
+-- | A corpus case as the engine runs it (Stref.IEC.Engine.iecAnswer):
+-- Nothing when outside the fast evaluator's slice.
+caseDifferences :: Case -> Maybe [String]
+caseDifferences c = do
+  pol <- either (const Nothing) Just (casePolicies defaultRunOptions c)
+  _ <- caseIec c
+  let rq = buildRequest pol c (effectiveExpect pol c)
+      choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
+  cycle <- either (const Nothing) Just (cycleMillis pol (maybe "T#10ms" id (rqCycle rq)))
+  prog <- checked pol choice (rqSource rq)
+  calls <- mapM callOf (rqCalls rq)
+  differences pol prog cycle (M.toList (prInit (rqPlc rq))) calls
+  where
+    callOf cr = case callReset cr of
+      Nothing -> Just (Scan (M.toList (callSet cr)))
+      Just r -> Reset <$> lookup r resetEvents
+
+-- | A generated program over its cycles.
+generatedDifferences :: Policies -> GenProgram -> Maybe [String]
+generatedDifferences pol gp = do
+  prog <- checked pol ProgramsOfConfiguration (renderProgram gp)
+  differences pol prog 10 [] (replicate (gpCalls gp) (Scan []))
+
+-- | The generated programs the fast evaluator accepts agree with the readable one.
+agreeOn :: Policies -> Gen GenProgram -> Property
+agreeOn pol gen = withMaxSuccess 250 . forAll gen $ \gp ->
+  case generatedDifferences pol gp of
+    Nothing -> label "outside the slice" True
+    Just ds -> label "on the fast path" (counterexample (T.unpack (renderProgram gp) <> unlines ds) (null ds))
+
+spec :: Spec
+spec = describe "IEC.Fast: the fast evaluator gives the readable evaluator's cycles" $ do
+  it "on every corpus case of tecomat and nexto it accepts, cycle by cycle (and it accepts at least 900 of them)" $ do
+    corpus <- loadCorpus ["conformance/tecomat", "conformance/nexto"]
+    let cases = [c | Loaded c <- corpusEntries corpus]
+        results = [(caseId c, ds) | c <- cases, Just ds <- [caseDifferences c]]
+        failing = [(i, take 1 ds) | (i, ds) <- results, not (null ds)]
+    putStrLn ("      the fast path runs " <> show (length results) <> " of " <> show (length cases) <> " corpus cases")
+    failing `shouldBe` []
+    length results `shouldSatisfy` (>= 900)
+  it "on generated tecomat programs" $
+    agreeOn tecomat (genProgram fullSupport)
+  -- (the pointer and the method lie outside the slice)
+  it "on generated nexto programs" $
+    agreeOn nexto (genProgram (withoutFeatures ["pointers", "methods"] codesysSupport))
+  it "runs bench/programs/fbscan.st (the benchmark of issue #23), and agrees on its first cycles" $ do
+    src <- TIO.readFile "bench/programs/fbscan.st"
+    let Just prog = checked tecomat ProgramsOfConfiguration src
+    isJust (fastCycle tecomat prog) `shouldBe` True
+    differences tecomat prog 10 [] (replicate 3 (Scan [])) `shouldBe` Just []
