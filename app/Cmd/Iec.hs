@@ -123,6 +123,7 @@ data RunIecOptions = RunIecOptions
   , riWatch :: [Text] -- ^ @--watch@ without @--trace@: a table, a row per cycle
   , riScenario :: Maybe [Call] -- ^ @--scenario FILE@: the cycles, instead of @--calls@
   , riSnippet :: Maybe Text -- ^ @stref eval@: the snippet the source wraps, where errors are shown
+  , riEvaluator :: Evaluator -- ^ @--readable@: every cycle in the readable evaluator
   }
 
 -- | @stref run --dialect tecomat FILE@: the programs over N cycles on the
@@ -140,7 +141,7 @@ runIec pol file src o = case cycleMillis pol (riCycle o) of
           Just scenario -> scenario
           Nothing -> if riCalls o <= 0 then [] else Scan sets : replicate (riCalls o - 1) (Scan [])
         observer = if null (riWatch o) then Nothing else Just (\prog m -> map (watchValue pol prog m) (riWatch o))
-    case runProgramWatched observer (fst <$> riTrace o) pol file src choice cycle [] calls of
+    case runProgramWith (riEvaluator o) observer (fst <$> riTrace o) pol file src choice cycle [] calls of
       Left e0
         | riJson o -> BL.putStrLn (A.encode (rejectionJson file [e])) >> pure (ExitFailure 1)
         | otherwise -> do
@@ -294,7 +295,7 @@ scalarText = \case
 evalIec :: Policies -> Text -> Int -> Maybe (Bool, [Text]) -> IO ExitCode
 evalIec pol snippet calls traced = do
   let written = maybe snippet (const (oneStatementALine snippet)) traced
-  runIec pol "<snippet>" (snippetProgram written) (RunIecOptions calls "T#10ms" Nothing [] False traced [] Nothing (Just written))
+  runIec pol "<snippet>" (snippetProgram written) (RunIecOptions calls "T#10ms" Nothing [] False traced [] Nothing (Just written) FastWhereItApplies)
 
 -- | A snippet as the body of PROGRAM MAIN (its line 1 is the program's 2).
 snippetProgram :: Text -> Text

@@ -27,7 +27,7 @@ import System.IO (stderr, stdout)
 import Cmd.Common
 import Cmd.Iec (RunIecOptions (..), compareIec, defaultCycle, dialectPolicies, isIecDialect, runIec)
 import Stref.Conformance.Case (Case (..), CallSetup (CallSetup), ExpValue (..), IecCall (..), IecSetup (..), iecScalar, parseScenario)
-import Stref.IEC.Engine (Call (..))
+import Stref.IEC.Engine (Call (..), Evaluator (..))
 import Stref.IEC.Eval (resetEvents)
 import Stref.Policy (PolicyInfo (..), Policies, alternativesOf, lookupPolicy, setPolicy)
 import Stref.Checked (CModule (..), ModuleKind (..))
@@ -57,6 +57,7 @@ data Options = Options
   , optCompare :: Maybe String
   , optTrace :: TraceFlags
   , optScenario :: Maybe FilePath
+  , optReadable :: Bool
   }
 
 command :: Mod CommandFields (IO ExitCode)
@@ -91,6 +92,7 @@ options =
     <*> optional (strOption (long "compare" <> metavar "POLICY" <> help "IEC dialects: run under every alternative of this policy, side by side; exit 1 when they differ"))
     <*> traceFlags
     <*> optional (strOption (long "scenario" <> metavar "FILE" <> help "The calls as a YAML list, as a corpus case's calls: key (inputs and set per call; IEC: {set: ...}, a number of cycles, {reset: ...}); instead of --calls"))
+    <*> switch (long "readable" <> help "IEC dialects: run every scan cycle in the readable evaluator, also where the fast one applies (same results, slower; docs/architecture.md)")
 
 -- | What a PLC file describes.
 data PlcFile = PlcFile
@@ -114,7 +116,7 @@ run o = case dialectPolicies (optDialect o) (optPolicies o) of
           case sequence scenario of
             Left msg -> usageError "run" msg
             Right calls -> do
-              let ro = RunIecOptions (optCalls o) (maybe (defaultCycle pol (optFile o) src (T.pack <$> optProgram o)) T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls) Nothing
+              let ro = RunIecOptions (optCalls o) (maybe (defaultCycle pol (optFile o) src (T.pack <$> optProgram o)) T.pack (optCycle o)) (T.pack <$> optProgram o) sets (optFormat o == "json") (traceRequest (optTrace o)) (watchTable (optTrace o)) (iecScenario <$> calls) Nothing (if optReadable o then Readable else FastWhereItApplies)
               case variants pol of
                 Left msg -> usageError "run" msg
                 Right [] -> runIec pol (optFile o) src ro

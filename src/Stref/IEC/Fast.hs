@@ -152,7 +152,7 @@ rebuild vec off sh old = case (sh, old) of
   where
     field fs k x = maybe (pure x) (\(o, s) -> rebuild vec (off + o) s x) (M.lookup k fs)
 
--- | A value built from the slots alone (data, and frames).
+-- | A value built from the slots alone (data only).
 build :: MV.MVector s Value -> Int -> Shape -> ST s Value
 build vec off = \case
   Record name fs _ -> do
@@ -170,7 +170,9 @@ data Env s = Env
   , eBase :: !Int -- ^ where in them its variables start
   , eDepth :: !Int -- ^ the nesting of calls (the readable evaluator's cxDepth)
   , eSteps :: !(MU.MVector s Int) -- ^ the watchdog's count (mSteps)
-  , eFrames :: !(STRef s [(Int, Shape, MV.MVector s Value)]) -- ^ the frames of the function calls under way, by depth (mFrames)
+  , eFrames :: !(STRef s [(Int, Shape, Value, MV.MVector s Value)])
+  -- ^ the frames of the function calls under way (mFrames): depth, shape,
+  -- the initial frame (the pattern to rebuild it on), slots
   , eClock :: !Integer
   }
 
@@ -321,7 +323,7 @@ fastCycle pol prog = do
               Left Bail -> pure Nothing
               Left (Faulted p f) -> do
                 fs <- readSTRef frames
-                open <- forM fs $ \(d, s, v) -> (d,) <$> build v 0 s
+                open <- forM fs $ \(d, s, initial, v) -> (d,) <$> rebuild v 0 s initial
                 pure (Just (m1 {mFrames = M.fromList open}, Just (StopFault p f)))
               Right () -> pure (Just (m1, Nothing))
   pure $ \clock m0 -> case mTrace m0 of
@@ -507,12 +509,14 @@ callFB cx p c = do
     (ts, Ref target) <- ref cx p r
     when (not (isLeaf ts && isLeaf s)) Nothing
     Just (o, Ref target, t)
+  -- a native FB's VAR_TEMP (none of the standard ones has any)
+  let temps = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
   Callee run <- case (sh, pdBody d) of
     -- the standard FB's meaning on the instance's variables
     (Opaque, Native f) -> Just $ Callee $ \vec o -> do
       clock <- eClock <$> env
       st $ MV.read vec o >>= \case
-        VInstance n vars -> MV.write vec o (VInstance n (f pol clock (M.union (temps d) vars)))
+        VInstance n vars -> MV.write vec o (VInstance n (f pol clock (M.union temps vars)))
         _ -> pure ()
     (Record {}, Statements _) -> do
       Code _ (Body' body) <- fromMaybe Nothing (LM.lookup (key (pdName d)) (cPous cx))
@@ -533,8 +537,6 @@ callFB cx p c = do
     pure Next
   where
     pol = cPol cx
-    -- a native FB's VAR_TEMP (none of the standard ones has any)
-    temps d = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
 
 paramType :: PouDef -> Text -> Type
 paramType d k = maybe (TElem BOOL) viType (varByKey d k)
@@ -584,7 +586,7 @@ callFunction cx p f ins outs = do
     vec <- st (MV.new (size sh))
     ok <- st (load vec 0 sh initial)
     when (not ok) (abort Bail)
-    st (modifySTRef' (eFrames e) ((depth, sh, vec) :))
+    st (modifySTRef' (eFrames e) ((depth, sh, initial, vec) :))
     let frame = Slot vec 0
     forM_ (zip ins' vs) $ \((t, o, s, _), v) -> fit pol p t v >>= writePlace s (at frame o)
     _ <- within (\e' -> e' {eSelf = vec, eBase = 0, eDepth = depth}) body
