@@ -39,13 +39,12 @@ module Stref.IEC.Fast
   ( fastCycle
   ) where
 
-import Control.Monad (ap, forM, forM_, liftM, when)
+import Control.Monad (ap, forM, forM_, join, liftM, when)
 import Control.Monad.ST (ST, runST)
 import Data.Foldable (foldlM)
 import Data.List (find)
 import qualified Data.Map as LM
 import qualified Data.Map.Strict as M
-import Data.Maybe (fromMaybe)
 import qualified Data.Sequence as Seq
 import Data.STRef
 import Data.Text (Text)
@@ -300,7 +299,7 @@ fastCycle pol prog = do
       cx = Cx pol prog (M.fromList globals) M.empty False pous
       pous = LM.fromList [(k, translatePou cx d) | (k, d) <- M.toList (prPous prog), Statements _ <- [pdBody d]]
   runs <- forM instances $ \(k, d) -> do
-    Code _ (Body' body) <- join' (LM.lookup (key (pdName d)) pous)
+    Code _ (Body' body) <- join (LM.lookup (key (pdName d)) pous)
     (base, _) <- lookup k progs
     Just (Body' (within (\e -> e {eSelf = eStore e, eBase = base}) body))
   let cycleWith clock m0 = runST $ do
@@ -329,8 +328,6 @@ fastCycle pol prog = do
   pure $ \clock m0 -> case mTrace m0 of
     Nothing | Just r <- cycleWith clock m0 -> r
     _ -> runCycle pol prog clock m0
-  where
-    join' = fromMaybe Nothing
 
 translatePou :: Cx -> PouDef -> Maybe Code
 translatePou cx d = do
@@ -519,7 +516,7 @@ callFB cx p c = do
         VInstance n vars -> MV.write vec o (VInstance n (f pol clock (M.union temps vars)))
         _ -> pure ()
     (Record {}, Statements _) -> do
-      Code _ (Body' body) <- fromMaybe Nothing (LM.lookup (key (pdName d)) (cPous cx))
+      Code _ (Body' body) <- join (LM.lookup (key (pdName d)) (cPous cx))
       Just (Callee (\vec base -> () <$ within (\e -> e {eSelf = vec, eBase = base, eDepth = eDepth e + 1}) body))
     _ -> Nothing
   Just $ St $ do
@@ -563,7 +560,7 @@ callFunction :: Cx -> Pos -> Text -> [(Text, CExpr)] -> [(Text, CRef, Type)] -> 
 callFunction cx p f ins outs = do
   d <- lookupPou (cProg cx) f
   when (pdKind d /= KFunction) Nothing
-  Code sh (Body' body) <- fromMaybe Nothing (LM.lookup (key (pdName d)) (cPous cx))
+  Code sh (Body' body) <- join (LM.lookup (key (pdName d)) (cPous cx))
   let initial = VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])
   ins' <- forM ins $ \(k, e) -> do
     Ex v <- expr cx e
