@@ -287,7 +287,8 @@ data Flow = Next | Exited | Returned | Continued
 -- | The readable evaluator's @runCycle@ for programs of the slice.
 fastCycle :: Policies -> Program -> Maybe (Integer -> Machine -> (Machine, Maybe Stop))
 fastCycle pol prog = do
-  when (not (null (prChecks prog)) || not (null (prVarConfig prog))) Nothing
+  -- outside the slice: implicit checks, VAR_CONFIG, periodic tasks (runCycle's schedule)
+  when (not (null (prChecks prog)) || not (null (prVarConfig prog)) || not (M.null (prPeriods prog))) Nothing
   gshapes <- forM [v | v <- prGlobals prog, viAt v == Nothing] $ \v -> (viKey v,) <$> shapeOf prog (viType v)
   let instances = [(key i, d) | (i, t) <- prInstances prog, Just d <- [lookupPou prog t]]
       distinct = M.toList (M.fromList instances)
