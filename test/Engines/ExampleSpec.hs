@@ -57,7 +57,7 @@ spec = describe "the example engine (conformance/engines/example)" $ do
                  , "tecomat/operators/int-addition-overflow"
                  , "tecomat/programs-cycles/first-cycle-initialisation"
                  ]
-    t `shouldBe` totals 7 47 0
+    t `shouldBe` totals 7 49 0
     code `shouldBe` ExitSuccess
 
   it "gives the same results in persistent mode (engine.py --persistent, stref conformance --persistent)" $ withPython $ do
