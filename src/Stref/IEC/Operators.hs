@@ -225,16 +225,17 @@ binaryWhy p op a b = (r, why)
 
 -- | Integers (ANY_INT) and bit strings (ANY_BIT without BOOL).
 intBinary :: Policies -> BinOp -> Elem -> Integer -> Integer -> Either Fault Value
-intBinary p op e x y = case op of
-  BDiv | y == 0 -> divisionByZero p (VInt e 0) -- TC-OP-22
-  BMod
-    | y == 0 -> case pModZero p of -- TC-OP-24
-        ModZeroZero -> Right (VInt e 0)
-        ModZeroError -> Left (Fault "division-by-zero" "MOD by zero")
-  BAnd -> Right (VInt e (x .&. y)) -- TC-OP-39: bit by bit
-  BOr -> Right (VInt e (x .|. y))
-  BXor -> Right (VInt e (x `xor` y))
-  _ -> maybe (VBool <$> compareWith op x y) (intResult p e) (exactInt p op x y)
+intBinary p op e x y = case exactInt p op x y of
+  Just n -> intResult p e n
+  Nothing -> case op of
+    BDiv -> divisionByZero p (VInt e 0) -- TC-OP-22 (y = 0)
+    BMod -> case pModZero p of -- TC-OP-24 (y = 0)
+      ModZeroZero -> Right (VInt e 0)
+      ModZeroError -> Left (Fault "division-by-zero" "MOD by zero")
+    BAnd -> Right (VInt e (x .&. y)) -- TC-OP-39: bit by bit
+    BOr -> Right (VInt e (x .|. y))
+    BXor -> Right (VInt e (x `xor` y))
+    _ -> VBool <$> compareWith op x y
 
 -- | The exact result of an arithmetic operator on integers, before it is
 -- fitted into the type ('intResult'); none for the other operators and for
