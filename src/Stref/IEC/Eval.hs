@@ -350,16 +350,16 @@ refName c r path = case r of
   CLocated l _ -> locText l
   _ -> pathName (cxNames c) path
 
--- | Run a loop's iteration; when tracing, RETURN or JMP leaving the loop
--- first closes it in the trace (an error ends the cycle, and the trace
--- shows it as the error).
-leaving :: Int -> Int -> Eval a -> Eval a
-leaving l k act = do
+-- | Run iteration @k@ of a loop; when tracing, it is told, and RETURN or
+-- JMP leaving the loop first closes it in the trace (an error ends the
+-- cycle, and the trace shows it as the error).
+iteration :: Int -> Int -> Eval a -> Eval a
+iteration l k act = do
   on <- tracing
   let closing e = case e of
         SigFault {} -> throwError e
         _ -> note (LoopExit l k) >> throwError e
-  if on then act `catchError` closing else act
+  if on then note (Iteration l k) >> (act `catchError` closing) else act
 
 fault :: Pos -> Fault -> Eval a
 fault p f = throwError (SigFault p f)
@@ -602,8 +602,7 @@ exec = \case
           v <- eval c
           if asBool v
             then do
-              note (Iteration l k)
-              continue <- leaving l k (loopBody body)
+              continue <- iteration l k (loopBody body)
               if continue then loop (k + 1) else note (LoopExit l k)
             else note (LoopExit l (k - 1))
     note (Rule l (decision ["TC-STMT-32", "NX-STMT-27"] "the condition is tested before each iteration"))
@@ -613,8 +612,7 @@ exec = \case
     -- TC-STMT-33: at least once, until the condition holds
     let l = posLine p
         loop k = do
-          note (Iteration l k)
-          continue <- leaving l k (loopBody body)
+          continue <- iteration l k (loopBody body)
           if continue
             then do
               tick p
@@ -700,8 +698,7 @@ forLoop p r t start end step body = do
         if not (forGoesOn (intOf i) (intOf e) (intOf st))
           then note (LoopExit l (k - 1))
           else do
-            note (Iteration l k)
-            continue <- leaving l k (loopBody body)
+            continue <- iteration l k (loopBody body)
             if not continue
               then note (LoopExit l k)
               else do
