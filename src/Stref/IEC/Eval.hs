@@ -576,9 +576,8 @@ exec = \case
           unless (null els) $ note (Branch (posLine p) "no condition is TRUE: ELSE runs")
           execBlock els
         go k ((c, b) : rest) = do
-          v <- eval c
           let arm = if k == (1 :: Int) then "THEN" else "ELSIF branch " <> T.pack (show k)
-          note (Branch (posLine (cePos c)) (if asBool v then "condition TRUE: " <> arm <> " runs" else "condition FALSE"))
+          v <- noting (\_ v -> Branch (posLine (cePos c)) (if asBool v then "condition TRUE: " <> arm <> " runs" else "condition FALSE")) (eval c)
           if asBool v then execBlock b else go (k + 1) rest
     go 1 arms
   CCase p sel arms els -> do
