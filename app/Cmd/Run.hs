@@ -588,7 +588,9 @@ compareMasterTool json file src name pol setupFor callsE = case (alternativesOf 
                 lasts = [(\(r, _, _) -> r) <$> n | n <- nodes]
                 -- everything kept for the next call is evaluated now, so
                 -- that no call's state is held until the end (10^6 calls)
-                settled = foldr (\x acc -> maybe () (`seq` ()) x `seq` acc) () errs' `seq` foldr (\x acc -> maybe () (`seq` ()) x `seq` acc) () lasts
+                settled = forceEach errs' `seq` forceEach lasts
+                forceEach :: [Maybe a] -> ()
+                forceEach = foldr (\x acc -> maybe () (`seq` ()) x `seq` acc) ()
              in parting' `seq` settled `seq` inStep (k + 1) parting' errs' (Just lasts) [(\(_, _, rest) -> rest) <$> n | n <- nodes]
     step = \case
       CallsFailed failure -> Left failure

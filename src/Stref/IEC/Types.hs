@@ -178,7 +178,8 @@ sameType a b = case (a, b) of
   -- NX-TYPE-60, NX-TYPE-61: CODESYS's enumerated values are numbers
   (TNumEnum _ e _, t) -> sameType (TElem e) t
   (t, TNumEnum _ e _) -> sameType t (TElem e)
-  (TArray b1 t1, TArray b2 t2) -> map dimLen b1 == map dimLen b2 && sameType t1 t2
+  -- arrays are one type when their bounds are equal, not only their lengths:
+  -- no implicit conversion (TC-CONV-3, open; docs/tecomat.md), so
+  -- ARRAY[0..2] and ARRAY[1..3] are not assigned to each other
+  (TArray b1 t1, TArray b2 t2) -> b1 == b2 && sameType t1 t2
   _ -> a == b
-  where
-    dimLen (lo, hi) = hi - lo
