@@ -56,7 +56,7 @@ reference pol gp = case runProgram pol "explore.st" (renderProgram gp) ProgramsO
   Right (Left e) -> SeenOther e
   Right (Right r) ->
     Seen
-      (M.fromList [(p, valueScalar v) | p <- observedPaths (gpSupport gp), Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath (rrProgram r) (rrMachine r) steps]])
+      (M.fromList [(p, programScalar (rrProgram r) v) | p <- observedPaths (gpSupport gp), Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath (rrProgram r) (rrMachine r) steps]])
       ((\(_, StopFault _ f) -> faultKind f) <$> rrError r)
 
 -- | The differences between two results: variable, left, right.

@@ -232,10 +232,10 @@ compareIec variants file src o = case mapM (\(_, p) -> cycleMillis p (riCycle o)
 watchValue :: Policies -> Program -> Machine -> Text -> Maybe Scalar
 watchValue pol prog m name
   | "%" `T.isPrefixOf` name = case locationOf pol name of
-      Right l -> Just (valueScalar (readLocatedVar prog l (locationType l) m))
+      Right l -> Just (programScalar prog (readLocatedVar prog l (locationType l) m))
       Left _ -> Nothing
   | otherwise = case [v | p <- name : [inst <> "." <> name | (inst, _) <- prRoots prog], Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath prog m steps]] of
-      v : _ -> Just (valueScalar v)
+      v : _ -> Just (programScalar prog v)
       [] -> Nothing
 
 -- | Rows under a header, in columns as wide as their widest cell.
@@ -270,7 +270,7 @@ observedVariables r =
         VArray bs xs -> concat [pathsOf (prefix <> "[" <> T.intercalate "," (map (T.pack . show) ix) <> "]") v | (ix, v) <- zip (sequence [[lo .. hi] | (lo, hi) <- bs]) (foldr (:) [] xs)]
         VStruct fs -> concat [pathsOf (prefix <> "." <> k) x | (k, x) <- M.toList fs]
         VInstance _ fs -> concat [pathsOf (prefix <> "." <> k) x | (k, x) <- M.toList fs, not ("$" `T.isInfixOf` k)]
-        v -> [(prefix, valueScalar v)]
+        v -> [(prefix, programScalar prog v)]
       observe p = case parseVarPath p of
         Right steps -> maybe [] (\(v, _) -> pathsOf p v) (readVariablePath prog m steps)
         Left _ -> []

@@ -36,7 +36,7 @@ outcome pol gp = case runProgram pol "gen.st" (renderProgram gp) ProgramsOfConfi
   Left e -> Rejected (veKind e <> ": " <> veMessage e)
   Right (Left e) -> Failed e
   Right (Right r) ->
-    let vars = M.fromList [(p, valueScalar v) | p <- observedPaths (gpSupport gp), Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath (rrProgram r) (rrMachine r) steps]]
+    let vars = M.fromList [(p, programScalar (rrProgram r) v) | p <- observedPaths (gpSupport gp), Right steps <- [parseVarPath p], Just (v, _) <- [readVariablePath (rrProgram r) (rrMachine r) steps]]
      in Ran vars ((\(_, StopFault _ f) -> faultKind f) <$> rrError r)
 
 knownKinds :: [Text]

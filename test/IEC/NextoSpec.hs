@@ -14,7 +14,7 @@ import Stref.Policy
 import Support.Iec
 import Test.Hspec
 import Test.QuickCheck (property)
-import Stref.IEC.Memory (decode, encode)
+import Stref.IEC.Memory (Layout (..), decode, encode)
 import Stref.Conformance.Protocol (Scalar (..))
 
 spec :: Spec
@@ -185,12 +185,17 @@ spec = describe "the nexto dialect" $ do
     it "unions in an array are separate, and a pointer reaches a member's byte" $ do
       runUnit nexto (unionSrc "d : DWORD; bs : ARRAY [0..3] OF BYTE;" "a[1].d := 16#AABBCCDD; a[2].d := 1; p := ADR(a[1].d) + 1; b := p^;") 1 "MAIN.b" `shouldBe` Right (VInt BYTE 0xCC)
       runUnit nexto (unionSrc "d : DWORD; bs : ARRAY [0..3] OF BYTE;" "a[1].d := 16#AABBCCDD; a[2].d := 1; x := a[2].d;") 1 "MAIN.x" `shouldBe` Right (VInt DWORD 1)
-    it "the bytes of a value read back as the value (integers of every width, REAL, LREAL, TIME)" $
+    it "the bytes of a value read back as the value (integers of every width, REAL, LREAL, TIME under each time-range)" $
       property $ \(n :: Integer) (f :: Float) (d :: Double) ->
-        and [decode (TElem e) (encode (TElem e) (VInt e (wrapInt e n))) == VInt e (wrapInt e n) | e <- allElems, isInt e]
-          && decode (TElem REAL) (encode (TElem REAL) (VReal f)) == VReal f
-          && decode (TElem LREAL) (encode (TElem LREAL) (VLReal d)) == VLReal d
-          && decode (TElem TIME) (encode (TElem TIME) (VTime TIME (abs n `mod` 2 ^ (31 :: Int)))) == VTime TIME (abs n `mod` 2 ^ (31 :: Int))
+        let ly r = Layout (const []) (const Nothing) r
+            bytes = Layout (const []) (const Nothing) TimeUnsigned
+            signedTime = wrapInt TIME n
+            unsignedTime = n `mod` 2 ^ (32 :: Int)
+         in and [decode bytes (TElem e) (encode bytes (TElem e) (VInt e (wrapInt e n))) == VInt e (wrapInt e n) | e <- allElems, isInt e]
+              && decode bytes (TElem REAL) (encode bytes (TElem REAL) (VReal f)) == VReal f
+              && decode bytes (TElem LREAL) (encode bytes (TElem LREAL) (VLReal d)) == VLReal d
+              && decode (ly TimeSigned) (TElem TIME) (encode (ly TimeSigned) (TElem TIME) (VTime TIME signedTime)) == VTime TIME signedTime
+              && decode (ly TimeUnsigned) (TElem TIME) (encode (ly TimeUnsigned) (TElem TIME) (VTime TIME unsignedTime)) == VTime TIME unsignedTime
     it "a member that is an FB instance, or has an initial value, is rejected" $ do
       fmap fst (rejectKind nexto (unionSrc "t : TON; d : DWORD;" "")) `shouldBe` Just "type-mismatch"
       fmap fst (rejectKind nexto (unionSrc "d : DWORD := 5;" "")) `shouldBe` Just "section-not-allowed"

@@ -1377,8 +1377,9 @@ pointerStep t = do
   varsOf <- asks envVarsOf
   std <- asks envStd
   packs <- asks envPackModes
+  pol <- asks envPol
   let membersOf n = [(viKey v, viType v) | v <- maybe (M.findWithDefault [] (key n) varsOf) pdVars (M.lookup (key n) std), isNothing (viAt v)]
-  pure (sizeInBytes (Layout membersOf (`M.lookup` packs)) t)
+  pure (sizeInBytes (Layout membersOf (`M.lookup` packs) (pTimeRange pol)) t)
 
 fbVars :: Text -> C [VarInfo]
 fbVars fb = do

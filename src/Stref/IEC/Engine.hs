@@ -16,6 +16,7 @@ module Stref.IEC.Engine
   , parseVarPath
   , observedTypes
   , valueScalar
+  , programScalar
   , locationOf
   , scalarValue
   , scalarsMatch
@@ -34,7 +35,7 @@ import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
 import Stref.IEC.Checked
 import Stref.IEC.Eval
 import Stref.IEC.Fast (fastCycle)
-import Stref.IEC.Memory (unionMember)
+import Stref.IEC.Memory (Layout, unionMember)
 import Stref.IEC.Parser (parseUnit, parseUnitExpr)
 import Stref.IEC.Syntax
 import Stref.IEC.Types
@@ -214,15 +215,23 @@ iecAnswer traced pol rq = do
       Just r -> maybe (Left ("the reset '" <> r <> "' is none of warm, cold, origin, download")) (Right . Reset) (lookup r resetEvents)
     observe r p
       | "%" `T.isPrefixOf` p = case locationOf pol p of
-          Right l -> Just (valueScalar (readLocatedVar (rrProgram r) l (locationType l) (rrMachine r)))
+          Right l -> Just (programScalar (rrProgram r) (readLocatedVar (rrProgram r) l (locationType l) (rrMachine r)))
           Left _ -> Nothing
       | otherwise = case parseVarPath p of
-          Right steps -> valueScalar . fst <$> readVariablePath (rrProgram r) (rrMachine r) steps
+          Right steps -> programScalar (rrProgram r) . fst <$> readVariablePath (rrProgram r) (rrMachine r) steps
           Left _ -> Nothing
 
--- | A value as the protocol carries it (§4.2).
+-- | A value of a program stref ran, as the protocol carries it (§4.2): a
+-- union as its members, read from its bytes in the program's layout.
+programScalar :: Program -> Value -> Scalar
+programScalar prog = scalarIn (Just (layoutOf prog))
+
+-- | A value read from another engine's output, which holds no union.
 valueScalar :: Value -> Scalar
-valueScalar = \case
+valueScalar = scalarIn Nothing
+
+scalarIn :: Maybe Layout -> Value -> Scalar
+scalarIn ly = \case
   VBool b -> SBool b
   VInt _ n -> SNumber (fromInteger n)
   VReal f
@@ -232,10 +241,10 @@ valueScalar = \case
     | isNaN d -> SNaN
     | isInfinite d -> SText (if d > 0 then "LREAL#1.0E309" else "LREAL#-1.0E309")
     | otherwise -> SNumber (fromFloatDigits d)
-  VArray _ xs -> SList (map valueScalar (foldr (:) [] xs))
-  VStruct fs -> SMap (M.map valueScalar fs)
-  u@(VUnion fs _) -> SMap (M.fromList [(k, valueScalar x) | (k, _) <- fs, Just x <- [unionMember k u]])
-  VInstance _ fs -> SMap (M.map valueScalar (M.filterWithKey (\k _ -> not ("$" `T.isInfixOf` k)) fs))
+  VArray _ xs -> SList (map (scalarIn ly) (foldr (:) [] xs))
+  VStruct fs -> SMap (M.map (scalarIn ly) fs)
+  u@(VUnion fs _) | Just l <- ly -> SMap (M.fromList [(k, scalarIn ly x) | (k, _) <- fs, Just x <- [unionMember l k u]])
+  VInstance _ fs -> SMap (M.map (scalarIn ly) (M.filterWithKey (\k _ -> not ("$" `T.isInfixOf` k)) fs))
   v -> SText (renderValue v)
 
 -- | A protocol value as a value of the type (literals parsed as ST).

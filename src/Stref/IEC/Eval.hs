@@ -10,6 +10,7 @@ module Stref.IEC.Eval
   , readVariablePath
   , writeVariablePath
   , readLocatedVar
+  , layoutOf
   , writeLocatedVar
   , Stop (..)
   , ResetEvent (..)
@@ -48,7 +49,7 @@ import Numeric (showHex)
 import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, isConversionName, truncTo)
-import Stref.IEC.Memory (Layout (..), areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, noFBs, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
+import Stref.IEC.Memory (Layout (..), areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binary, binaryWhy, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
@@ -78,6 +79,7 @@ data Signal = SigExit | SigReturn | SigContinue | SigJump Text | SigFault Pos Fa
 data Ctx = Ctx
   { cxPol :: Policies
   , cxProgram :: Program
+  , cxLayout :: Layout -- ^ the program's layout in bytes (layoutOf), made once
   , cxSelf :: RefPath -- ^ the running POU's instance or frame
   , cxThis :: RefPath -- ^ the instance its code runs on (a method's: NX-POU-27)
   , cxChecked :: Bool -- ^ do the implicit check functions apply here (NX-ERR-3, NX-ERR-4)
@@ -226,7 +228,7 @@ everyInstance prog act = do
 -- | Run initialisation code outside a cycle.
 runInit :: Policies -> Program -> Machine -> Eval () -> (Machine, Maybe Stop)
 runInit pol prog m0 act =
-  let ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
+  let ctx = Ctx pol prog (layoutOf prog) (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
       (r, m) = runState (runExceptT (runReaderT act ctx)) m0 {mSteps = 0, mFrames = M.empty}
    in case r of
         Left (SigFault p f) -> (m, Just (StopFault p f))
@@ -250,7 +252,7 @@ runCycle pol prog clock m0 =
       run = forM_ [(inst, t) | (inst, t) <- prInstances prog, due inst] $ \(inst, t) -> case lookupPou prog t of
         Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
-      ctx = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
+      ctx = Ctx pol prog (layoutOf prog) (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
         Left (SigFault p f) -> (traceFault pol p f m', Just (StopFault p f))
@@ -1069,21 +1071,21 @@ fitWhy pol t v = case (t, v) of
         )
   _ -> (Right v, [])
 
-rootValue :: Root -> Machine -> Maybe Value
-rootValue r m = case r of
+rootValue :: Layout -> Root -> Machine -> Maybe Value
+rootValue ly r m = case r of
   RootGlobal k -> M.lookup k (mGlobals m)
   RootProgram k -> M.lookup k (mPrograms m)
   RootFrame d -> M.lookup d (mFrames m)
   RootLocated _ -> Nothing
-  RootBytes area a t -> Just (decode t [fromInteger (M.findWithDefault 0 (area, a + i) (mMemory m)) | i <- [0 .. sizeInBytes noFBs t - 1]])
+  RootBytes area a t -> Just (decode ly t [fromInteger (M.findWithDefault 0 (area, a + i) (mMemory m)) | i <- [0 .. sizeInBytes ly t - 1]])
 
-setRoot :: Root -> Value -> Machine -> Machine
-setRoot r v m = case r of
+setRoot :: Layout -> Root -> Value -> Machine -> Machine
+setRoot ly r v m = case r of
   RootGlobal k -> m {mGlobals = M.insert k v (mGlobals m)}
   RootProgram k -> m {mPrograms = M.insert k v (mPrograms m)}
   RootFrame d -> m {mFrames = M.insert d v (mFrames m)}
   RootLocated _ -> m
-  RootBytes area a t -> m {mMemory = foldl (\mem (i, byte) -> M.insert (area, a + i) (toInteger byte) mem) (mMemory m) (zip [0 ..] (encode t v))}
+  RootBytes area a t -> m {mMemory = foldl (\mem (i, byte) -> M.insert (area, a + i) (toInteger byte) mem) (mMemory m) (zip [0 ..] (encode ly t v))}
 
 getPath :: RefPath -> Eval Value
 getPath path = getPathOr path (VBool False)
@@ -1091,7 +1093,8 @@ getPath path = getPathOr path (VBool False)
 getPathOr :: RefPath -> Value -> Eval Value
 getPathOr path dflt = do
   RefPath r steps <- narrowed path
-  gets (\m -> fromMaybe dflt (rootValue r m >>= walk steps))
+  ly <- asks cxLayout
+  gets (\m -> fromMaybe dflt (rootValue ly r m >>= walk ly steps))
 
 -- | A path into a direct-address area's bytes reaches the bytes of its
 -- leaf: its fields and indices are offsets in the pointer's type, in the
@@ -1100,7 +1103,7 @@ getPathOr path dflt = do
 narrowed :: RefPath -> Eval RefPath
 narrowed path = case path of
   RefPath (RootBytes area a t) steps@(_ : _) -> do
-    ly <- asks (layoutOf . cxProgram)
+    ly <- asks cxLayout
     let go off ty = \case
           s : rest
             | offsetStep s, Just (o, ft) <- offsetOf ly ty [s] -> go (off + o) ft rest
@@ -1112,30 +1115,32 @@ narrowed path = case path of
     pure (go a t steps)
   _ -> pure path
 
-walk :: [Step] -> Value -> Maybe Value
-walk [] v = Just v
-walk (s : rest) v = case (s, v) of
-  (StepField f, VStruct fs) -> M.lookup f fs >>= walk rest
-  (StepField f, VUnion {}) -> unionMember f v >>= walk rest
-  (StepField f, VInstance _ fs) -> M.lookup f fs >>= walk rest
-  (StepIndex is, VArray bs xs) -> Seq.lookup (linearIndex bs is) xs >>= walk rest
-  (StepBit i, VInt e n) -> walk rest (VBool (testBit (n `mod` (2 ^ intBits e)) i))
-  (StepChar w i, VString str) -> walk rest (VInt (if w then WORD else BYTE) (if i >= 0 && i < toInteger (T.length str) then toInteger (ord (T.index str (fromInteger i))) else 0))
+-- | The part of a value at a path; a union's member is read from its bytes
+-- in the program's layout.
+walk :: Layout -> [Step] -> Value -> Maybe Value
+walk _ [] v = Just v
+walk ly (s : rest) v = case (s, v) of
+  (StepField f, VStruct fs) -> M.lookup f fs >>= walk ly rest
+  (StepField f, VUnion {}) -> unionMember ly f v >>= walk ly rest
+  (StepField f, VInstance _ fs) -> M.lookup f fs >>= walk ly rest
+  (StepIndex is, VArray bs xs) -> Seq.lookup (linearIndex bs is) xs >>= walk ly rest
+  (StepBit i, VInt e n) -> walk ly rest (VBool (testBit (n `mod` (2 ^ intBits e)) i))
+  (StepChar w i, VString str) -> walk ly rest (VInt (if w then WORD else BYTE) (if i >= 0 && i < toInteger (T.length str) then toInteger (ord (T.index str (fromInteger i))) else 0))
   _ -> Nothing
 
 putPath :: RefPath -> Value -> Eval ()
-putPath path v = narrowed path >>= \(RefPath r steps) -> modify' $ \m -> case rootValue r m of
-  Just root -> setRoot r (updateAt steps v root) m
+putPath path v = narrowed path >>= \(RefPath r steps) -> asks cxLayout >>= \ly -> modify' $ \m -> case rootValue ly r m of
+  Just root -> setRoot ly r (updateAt ly steps v root) m
   Nothing -> m
 
 -- | A value with the part at a path replaced (a missing field is added).
-updateAt :: [Step] -> Value -> Value -> Value
-updateAt steps v = go steps
+updateAt :: Layout -> [Step] -> Value -> Value -> Value
+updateAt ly steps v = go steps
   where
     go [] _ = v
     go (s : rest) old = case (s, old) of
       (StepField f, VStruct fs) -> VStruct (M.insert f (go rest (M.findWithDefault (VBool False) f fs)) fs)
-      (StepField f, VUnion {}) -> setUnionMember f (go rest) old
+      (StepField f, VUnion {}) -> setUnionMember ly f (go rest) old
       (StepField f, VInstance n fs) -> VInstance n (M.insert f (go rest (M.findWithDefault (VBool False) f fs)) fs)
       (StepIndex is, VArray bs xs) -> VArray bs (Seq.adjust' (go rest) (linearIndex bs is) xs)
       -- NX-OP-93: a bit set or cleared, the rest of the integer kept
@@ -1157,7 +1162,7 @@ linearIndex bs is = fromInteger (foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1
 -- Addresses (CODESYS pointers, Stref.IEC.Memory)
 
 layoutOf :: Program -> Layout
-layoutOf prog = Layout (\n -> maybe [] (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (lookupPou prog n)) (`M.lookup` prPackModes prog)
+layoutOf prog = Layout (\n -> maybe [] (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (lookupPou prog n)) (`M.lookup` prPackModes prog) (prTimeRange prog)
 
 -- | The roots of memory with their types and addresses: globals, program
 -- instances, the frames of the calls under way.
@@ -1284,9 +1289,10 @@ readVariablePath prog m = readPath . throughList prog
         x <- walkFollow rest inst
         pure (x, typeAt (viType v) more)
       _ -> (,Nothing) <$> walkFollow rest inst
-    walkFollow steps v = case walk steps v of
-      Just (VRef (RefPath r s)) -> rootValue r m >>= walk s
+    walkFollow steps v = case walk ly steps v of
+      Just (VRef (RefPath r s)) -> rootValue ly r m >>= walk ly s
       x -> x
+    ly = layoutOf prog
     typeAt t = \case
       [] -> Just t
       StepField f : more -> case t of
@@ -1325,9 +1331,10 @@ writeVariablePath prog m steps0 v = case throughList prog steps0 of
         _ -> put path
     -- the path exists (walk), so updateAt adds no field
     put (RefPath r s) = do
-      root <- rootValue r m
-      _ <- walk s root
-      Just (setRoot r (updateAt s v root) m)
+      root <- rootValue ly r m
+      _ <- walk ly s root
+      Just (setRoot ly r (updateAt ly s v root) m)
+    ly = layoutOf prog
 
 readLocatedVar :: Program -> Location -> Type -> Machine -> Value
 readLocatedVar prog l t m = readLocated (prTimeRange prog) l t (mMemory m)

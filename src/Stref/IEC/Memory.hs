@@ -33,7 +33,6 @@ module Stref.IEC.Memory
   , frameBase
   , areaBase
   , areaAt
-  , noFBs
   , frameSpan
   , placeAll
   , encode
@@ -54,6 +53,7 @@ import qualified Data.Text as T
 import Data.Word (Word8)
 import GHC.Float (castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Types
+import Stref.Policy (TimeRange (..))
 import Stref.IEC.Values (Step (..), Value (..), defaultValue, wrapInt)
 
 -- | What the layout needs to know of the unit: the members (upper-case
@@ -62,6 +62,7 @@ import Stref.IEC.Values (Step (..), Value (..), defaultValue, wrapInt)
 data Layout = Layout
   { lyMembers :: Text -> [(Text, Type)]
   , lyPack :: Text -> Maybe Integer
+  , lyTimeRange :: TimeRange -- ^ how a TIME's four bytes count (policy time-range, NX-TYPE-30)
   }
 
 sizeAlign :: Layout -> Type -> (Integer, Integer)
@@ -211,8 +212,8 @@ placeAll ly base = reverse . snd . foldl step (base, [])
 -- Bytes of a value (UNION: NX-TYPE-72, NX-TYPE-73)
 
 -- | The bytes of a value of a type, as many as its size.
-encode :: Type -> Value -> [Word8]
-encode t v = case (t, v) of
+encode :: Layout -> Type -> Value -> [Word8]
+encode ly t v = case (t, v) of
   (TElem BOOL, VBool b) -> [if b then 1 else 0]
   (TElem e, VInt _ n) | isInt e -> le (intBits e `div` 8) n
   (TElem REAL, VReal f) -> le 4 (toInteger (castFloatToWord32 f))
@@ -224,8 +225,8 @@ encode t v = case (t, v) of
   (TString w n, VString s) ->
     let unit = if w then 2 else 1
      in take (unit * (n + 1)) (concatMap (le unit . toInteger . ord) (T.unpack s) ++ repeat 0)
-  (TArray _ et, VArray _ xs) -> concatMap (encode et) (toList xs)
-  (TStruct _ _, VStruct fs) -> record [(ft, fo, M.lookup k fs) | (k, ft, fo) <- fromMaybe [] (members noFBs t)]
+  (TArray _ et, VArray _ xs) -> concatMap (encode ly et) (toList xs)
+  (TStruct _ _, VStruct fs) -> record [(ft, fo, M.lookup k fs) | (k, ft, fo) <- fromMaybe [] (members ly t)]
   (TUnion _ _, VUnion _ bs) -> take size (bs ++ repeat 0)
   (TEnum _ vs, VEnum _ x) -> le 2 (maybe 0 toInteger (elemIndex x vs))
   (TNumEnum _ e _, VInt _ n) -> le (intBits e `div` 8) n
@@ -233,20 +234,20 @@ encode t v = case (t, v) of
   (TPointer _, VInt _ n) -> le 4 n
   _ -> replicate size 0
   where
-    size = fromInteger (sizeInBytes noFBs t)
+    size = fromInteger (sizeInBytes ly t)
     le k n = [fromInteger ((n `shiftR` (8 * i)) .&. 255) | i <- [0 .. k - 1]]
-    record parts = foldl (\bs (ft, fo, x) -> maybe bs (overlay bs (fromInteger fo) . encode ft) x) (replicate size 0) parts
+    record parts = foldl (\bs (ft, fo, x) -> maybe bs (overlay bs (fromInteger fo) . encode ly ft) x) (replicate size 0) parts
     overlay bs at new = take at bs ++ new ++ drop (at + length new) bs
 
 -- | The value of a type that bytes hold.
-decode :: Type -> [Word8] -> Value
-decode t bs = case t of
+decode :: Layout -> Type -> [Word8] -> Value
+decode ly t bs = case t of
   TElem BOOL -> VBool (any (/= 0) (take 1 bs))
   TElem e | isInt e -> VInt e (wrapInt e (num (intBits e `div` 8)))
   TElem REAL -> VReal (castWord32ToFloat (fromInteger (num 4)))
   TElem LREAL -> VLReal (castWord64ToDouble (fromInteger (num 8)))
   TElem LTIME -> VTime LTIME (signed 64 (num 8))
-  TElem TIME -> VTime TIME (num 4)
+  TElem TIME -> VTime TIME (if lyTimeRange ly == TimeUnsigned then num 4 else wrapInt TIME (num 4))
   TElem DATE -> VDate (num 4 * 1000)
   TElem DT -> VDT (num 4 * 1000)
   TElem TOD -> VTod (num 4)
@@ -256,10 +257,10 @@ decode t bs = case t of
         chars = [fromInteger (leNum (take unit (drop i bs))) | i <- [0, unit .. length bs - unit]]
      in VString (T.pack (map chr (takeWhile (/= 0) chars)))
   TArray b et ->
-    let s = fromInteger (sizeInBytes noFBs et)
-     in VArray b (Seq.fromList [decode et (take s (drop (i * s) bs)) | i <- [0 .. fromInteger (product [hi - lo + 1 | (lo, hi) <- b]) - 1]])
-  TStruct _ _ -> VStruct (M.fromList [(k, decode ft (drop (fromInteger fo) bs)) | (k, ft, fo) <- fromMaybe [] (members noFBs t)])
-  TUnion _ fs -> VUnion [(T.toUpper k, ft) | (k, ft) <- fs] (dropWhileEnd (== 0) (take (fromInteger (sizeInBytes noFBs t)) bs))
+    let s = fromInteger (sizeInBytes ly et)
+     in VArray b (Seq.fromList [decode ly et (take s (drop (i * s) bs)) | i <- [0 .. fromInteger (product [hi - lo + 1 | (lo, hi) <- b]) - 1]])
+  TStruct _ _ -> VStruct (M.fromList [(k, decode ly ft (drop (fromInteger fo) bs)) | (k, ft, fo) <- fromMaybe [] (members ly t)])
+  TUnion _ fs -> VUnion [(T.toUpper k, ft) | (k, ft) <- fs] (dropWhileEnd (== 0) (take (fromInteger (sizeInBytes ly t)) bs))
   TEnum n vs -> let i = num 2 in if i < toInteger (length vs) then VEnum n (vs !! fromInteger i) else defaultValue t
   TNumEnum _ e _ -> VInt e (wrapInt e (num (intBits e `div` 8)))
   TSubrange e _ _ -> VInt e (wrapInt e (num (intBits e `div` 8)))
@@ -272,21 +273,17 @@ decode t bs = case t of
 
 -- | NX-TYPE-72, NX-TYPE-73: a member of a union reads the bytes the
 -- union holds.
-unionMember :: Text -> Value -> Maybe Value
-unionMember k = \case
-  VUnion fs bs -> (`decode` bs) <$> lookup k fs
+unionMember :: Layout -> Text -> Value -> Maybe Value
+unionMember ly k = \case
+  VUnion fs bs -> (\t -> decode ly t bs) <$> lookup k fs
   _ -> Nothing
 
 -- | Writing a member of a union replaces the bytes it covers; the bytes
 -- beyond it keep what the union held.
-setUnionMember :: Text -> (Value -> Value) -> Value -> Value
-setUnionMember k f = \case
+setUnionMember :: Layout -> Text -> (Value -> Value) -> Value -> Value
+setUnionMember ly k f = \case
   VUnion fs bs | Just t <- lookup k fs ->
-    let new = encode t (f (decode t bs))
+    let new = encode ly t (f (decode ly t bs))
      in VUnion fs (dropWhileEnd (== 0) (new ++ drop (length new) bs))
   v -> v
 
--- | Unions and structures hold no FB instances: their layout needs none.
--- (A structure with a pack_mode inside a union is laid out unpacked there.)
-noFBs :: Layout
-noFBs = Layout (const []) (const Nothing)
