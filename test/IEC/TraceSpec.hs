@@ -89,6 +89,14 @@ spec = describe "IEC.Trace" $ do
     it "a duration outside TIME's range is the overflow decision over the time range (TC-OP-49, TC-TYPE-19)" $ do
       traced False tecomat {pOverflow = Saturate} realTime 1 `shouldSatisfy` (`has` "T#24d + T#24d lies outside TIME (time-range=signed): the result is T#24d20h31m23s647ms (overflow=saturate)")
       traced False tecomat {pTimeRange = TimeUnsigned} realTime 1 `shouldNotSatisfy` (`has` "T#24d + T#24d lies outside")
+    -- T#20d * 3 = 5184000000 ms > 2^31 - 1; 60 years of days > 2^31 - 1 ms
+    let scaled = "PROGRAM MAIN\nVAR tt : TIME := T#20d; span : TIME; nought : DINT := 0; quotient : TIME; gap : TIME; later : DATE := D#2030-01-01; earlier : DATE := D#1970-01-01; END_VAR\nspan := tt * 3;\nquotient := tt / nought;\ngap := later - earlier;\nEND_PROGRAM\n"
+    it "a duration scaled or a difference of dates outside TIME's range is the overflow decision; a duration divided by 0 is div-zero (TC-OP-53, TC-OP-58, TC-OP-59)" $ do
+      let t = traced False tecomat {pOverflow = Saturate, pDivZero = DivZeroZero} scaled 1
+      t `shouldSatisfy` (`has` "rule TC-OP-58, TC-TYPE-19: T#20d * 3 lies outside TIME (time-range=signed): the result is T#24d20h31m23s647ms (overflow=saturate)")
+      t `shouldSatisfy` (`has` "rule TC-OP-22, TC-OP-59: T#20d / 0: division by zero gives T#0ms (div-zero=zero)")
+      t `shouldSatisfy` (`has` "rule TC-OP-53, TC-TYPE-19: D#2030-01-01 - D#1970-01-01 lies outside TIME")
+      traced False tecomat scaled 1 `shouldSatisfy` (`has` "T#20d / 0: division by zero is a runtime error (div-zero=error)")
   describe "long loops" $ do
     it "show their first 3 iterations, then a count" $ do
       let t = traced False tecomat counting 1

@@ -202,7 +202,12 @@ binaryWhy p op a b = (r, why)
       (VInt e x, VInt e' y) | e == e' -> intDecisions p op e x y r
       (VReal x, VReal y) -> realWhy x y
       (VLReal x, VLReal y) -> realWhy x y
-      (VTime e x, VTime e' y) | e == e' -> timeWhy e x y
+      (VTime e x, VTime e' y) | e == e', op == BAdd -> durationWhy "TC-OP-49" e (x + y)
+      (VTime e x, VTime e' y) | e == e', op == BSub -> durationWhy "TC-OP-52" e (x - y)
+      (VDate x, VDate y) | op == BSub -> durationWhy "TC-OP-53" TIME (x - y)
+      (VTod x, VTod y) | op == BSub -> durationWhy "TC-OP-55" TIME (x - y)
+      (VDT x, VDT y) | op == BSub -> durationWhy "TC-OP-57" TIME (x - y)
+      (VTime e x, n) | op `elem` [BMul, BDiv] -> scaleWhy e x n
       _ -> []
     outcome = either (const "a runtime error") (\v -> "the result is " <> renderValue v) r
     written = renderValue a <> " " <> binOpSymbol op <> " " <> renderValue b
@@ -214,13 +219,31 @@ binaryWhy p op a b = (r, why)
       | Just exact <- realArith op x y, finite x, finite y, isInfinite exact =
           [ruled ["TC-OP-26"] "real-overflow" (written <> " leaves the range of " <> describe a <> ": " <> outcome)]
       | otherwise = []
-    -- a duration's sum or difference outside its range: the overflow
-    -- policy over the range time-range gives (TC-OP-49, TC-OP-52,
-    -- TC-TYPE-19, NX-TYPE-30, NX-TYPE-34)
-    timeWhy e x y
-      | op `elem` [BAdd, BSub], let n = if op == BAdd then x + y else x - y, not (fitsUnder p e n) =
-          [ruled ["TC-OP-49", "TC-OP-52", "TC-TYPE-19", "NX-TYPE-30", "NX-TYPE-34"] "overflow" (written <> " lies outside " <> elemName e <> " (time-range=" <> timeRangeName <> "): " <> outcome)]
-      | otherwise = []
+    -- a duration outside its range, from a sum or difference of durations,
+    -- a difference of dates or times of day, or a duration scaled (the
+    -- operator's rule): the overflow policy over the range time-range
+    -- gives (TC-TYPE-19, NX-TYPE-30, NX-TYPE-34)
+    durationWhy rule e n
+      | fitsUnder p e n = []
+      | otherwise = [ruled [rule, "TC-TYPE-19", "NX-TYPE-30", "NX-TYPE-34"] "overflow" (written <> " lies outside " <> elemName e <> " (time-range=" <> timeRangeName <> "): " <> outcome)]
+    -- a duration times or divided by a number (TC-OP-58, TC-OP-59): by zero
+    -- follows div-zero, an exact result outside the range overflow
+    scaleWhy e x = \case
+      VInt _ k
+        | op == BDiv, k == 0 -> divZeroWhy
+        | otherwise -> durationWhy scaleRule e (if op == BMul then x * k else x `quot` k)
+      VReal f -> byReal (realToFrac f :: Double)
+      VLReal d -> byReal d
+      _ -> []
+      where
+        byReal r
+          | isNaN r || (isInfinite r && (op == BDiv || x == 0)) = []
+          | op == BDiv, r == 0 = divZeroWhy
+          | isInfinite r = [ruled [scaleRule, "TC-TYPE-19", "NX-TYPE-30"] "overflow" (written <> " is infinite, outside " <> elemName e <> ": " <> outcome)]
+          | op == BMul = durationWhy scaleRule e (truncate (fromInteger x * toRational r))
+          | otherwise = durationWhy scaleRule e (truncate (fromInteger x / toRational r))
+    scaleRule = if op == BMul then "TC-OP-58" else "TC-OP-59"
+    divZeroWhy = [ruled ["TC-OP-22", "TC-OP-59", "NX-OP-29"] "div-zero" (written <> ": division by zero " <> either (const "is a runtime error") (\v -> "gives " <> renderValue v) r)]
     timeRangeName = if pTimeRange p == TimeUnsigned then "unsigned" else "signed"
 
 -- | Integers (ANY_INT) and bit strings (ANY_BIT without BOOL).
