@@ -155,6 +155,14 @@ spec = do
     it "the same seed and index give the same input" $
       generateInput ["PROGRAM P X := 1; END_PROGRAM"] (inputRng 7 42)
         `shouldBe` generateInput ["PROGRAM P X := 1; END_PROGRAM"] (inputRng 7 42)
+    it "40 nested calls left open are a syntax error, in every dialect, within 400 MB of allocation" $ do
+      -- input 10175 of seed 20261128 (VAR ns: and 16 levels): the nexto parser parsed each
+      -- failed argument list again as a variable's, 2^n work
+      let open = TE.encodeUtf8 ("VAR ns:" <> T.replicate 40 "ABS(")
+      v <- checkInput (Guard 30000000 400000000) open
+      v `shouldSatisfy` \case
+        Fine (SyntaxErrorKind _) -> True
+        _ -> False
     it "500 inputs from the corpus and the examples end without an internal error" $ do
       seeds <- seedPrograms
       report <- fuzzCampaign defaultGuard seeds 20261122 0 500 (\_ _ -> pure ())

@@ -1091,7 +1091,10 @@ primary pol = do
     , ELit p . LWString <$> stringLit pol '"'
     , ELocated p <$> location pol
     , prefixed pol
-    , try (ECall p <$> name pol <*> (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")"))
+      -- a name before '(' is a call: committed there, so that a malformed
+      -- argument list is not parsed again as a variable's (exponential in
+      -- the nesting of calls)
+    , ECall p <$> try (name pol <* lookAhead (symbol pol "(")) <*> (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")")
       -- AND, OR, XOR and MOD are also the names of standard functions (Tab.3.14, Tab.3.16)
     , try (ECall p <$> choice [w <$ kw pol w | w <- ["AND", "OR", "XOR", "MOD"]] <*> (symbol pol "(" *> arg pol `sepBy` symbol pol "," <* symbol pol ")"))
     , variable pol
