@@ -318,6 +318,12 @@ spec = describe "the stref command line" $ do
       errN `shouldSatisfy` ("convert it explicitly (NX-CONV-1, NX-CONV-2) [type-mismatch]" `isInfixOf`)
       (_, _, errT) <- stref ["check", "--dialect", "tecomat", fixture "narrowing.st"]
       errT `shouldSatisfy` ("convert it explicitly (TC-CONV-1, TC-CONV-3) [type-mismatch]" `isInfixOf`)
+    it "a runtime error cites the rule by the dialect's catalogue: the watchdog (NX-ERR-26 under nexto, TC-ERR-1 under tecomat)" $ do
+      (codeN, outN, _) <- stref ["run", "--dialect", "nexto", "--policy", "step-budget=1000", fixture "endless.st"]
+      codeN `shouldBe` ExitFailure 1
+      outN `shouldSatisfy` ("the watchdog ends it (cycle error, NX-ERR-26)" `isInfixOf`)
+      (_, outT, _) <- stref ["run", "--dialect", "tecomat", "--policy", "step-budget=1000", fixture "endless.st"]
+      outT `shouldSatisfy` ("the watchdog ends it (cycle error, TC-ERR-1)" `isInfixOf`)
 
   describe "run" $ do
     it "says on each call's line when the call leaves INTERNAL_OVERFLOW set (MT-OP-7)" $ do

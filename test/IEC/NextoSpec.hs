@@ -38,6 +38,24 @@ spec = describe "the nexto dialect" $ do
       rejectKind nexto "PROGRAM MAIN\nVAR i : INT; d : DINT; END_VAR\ni := d;\nEND_PROGRAM\n" `shouldBe` Just ("type-mismatch", 3)
     it "lets a WORD be stored in an INT, as the manual's CTUD example does (NX-CONV-7)" $
       runMain nexto "VAR w : WORD := 16#FFFF; i : INT; END_VAR i := w;" 1 "i" `shouldBe` Right (VInt INT (-1))
+  describe "messages cite the rules by the dialect's catalogue" $ do
+    let cites pol src = fmap (T.takeWhileEnd (/= '(')) (rejectMessage pol src)
+        exitOutside = "PROGRAM MAIN\nEXIT;\nEND_PROGRAM\n"
+        hidden = "FUNCTION_BLOCK FB\nVAR h : INT; END_VAR\nh := 1;\nEND_FUNCTION_BLOCK\nPROGRAM MAIN\nVAR f : FB; i : INT; END_VAR\ni := f.h;\nEND_PROGRAM\n"
+        mixed = "FUNCTION F : INT\nVAR_INPUT a, b : INT; END_VAR\nF := a + b;\nEND_FUNCTION\nPROGRAM MAIN\nVAR i : INT; END_VAR\ni := F(a := 1, 2);\nEND_PROGRAM\n"
+        recursive = "FUNCTION F : INT\nVAR_INPUT a : INT; END_VAR\nF := F(a);\nEND_FUNCTION\nPROGRAM MAIN\nEND_PROGRAM\n"
+    it "under nexto the NX ids of a rule the Nexto manual states (NX-STMT-38, NX-POU-19, NX-POU-12, NX-POU-50, NX-VAR-9)" $ do
+      cites nexto exitOutside `shouldBe` Just "NX-STMT-38)"
+      cites nexto hidden `shouldBe` Just "NX-POU-19)"
+      cites nexto mixed `shouldBe` Just "NX-POU-12, NX-ERR-30)"
+      cites nexto recursive `shouldBe` Just "NX-POU-50)"
+      cites nexto "FUNCTION F : INT\nVAR_TEMP t : INT; END_VAR\nF := 1;\nEND_FUNCTION\nPROGRAM MAIN\nEND_PROGRAM\n" `shouldBe` Just "NX-VAR-9)"
+    it "under tecomat the TC ids, and under nexto too where the Nexto manual is silent" $ do
+      cites tecomat exitOutside `shouldBe` Just "TC-STMT-36)"
+      cites tecomat hidden `shouldBe` Just "TC-POU-23)"
+      cites tecomat mixed `shouldBe` Just "TC-POU-12)"
+      cites tecomat recursive `shouldBe` Just "TC-POU-2)"
+      cites nexto "FUNCTION F : INT\nVAR_EXTERNAL g : INT; END_VAR\nF := 1;\nEND_FUNCTION\nPROGRAM MAIN\nEND_PROGRAM\n" `shouldBe` Just "TC-VAR-9..15)"
   describe "statements of CODESYS (extensions = codesys)" $ do
     it "JMP goes back to a label: the manual's loop ends with i = 10 (NX-STMT-42, NX-STMT-43)" $
       runMain nexto "VAR i : INT; END_VAR i := 0; label1: i := i + 1; IF i < 10 THEN JMP label1; END_IF" 1 "i" `shouldBe` Right (VInt INT 10)

@@ -1,10 +1,11 @@
 -- | Running IEC programs in the tests: a PROGRAM MAIN body over cycles of
--- 10 ms, the reject kind of a unit, the runtime error of a run.
+-- 10 ms, the reject kind (or message) of a unit, the runtime error of a run.
 module Support.Iec
   ( runMain
   , runUnit
   , runCalls
   , rejectKind
+  , rejectMessage
   , errorOf
   ) where
 
@@ -44,6 +45,12 @@ runCalls pol src calls path = case runProgram pol "t.st" src ProgramsOfConfigura
 rejectKind :: Policies -> Text -> Maybe (Text, Int)
 rejectKind pol src = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] [Scan []] of
   Left (VerificationError k (Pos l _) _) -> Just (k, l)
+  _ -> Nothing
+
+-- | The message of the error that rejects a unit.
+rejectMessage :: Policies -> Text -> Maybe Text
+rejectMessage pol src = case runProgram pol "t.st" src ProgramsOfConfiguration 10 [] [Scan []] of
+  Left (VerificationError _ _ m) -> Just m
   _ -> Nothing
 
 errorOf :: Policies -> Text -> Int -> Maybe (Int, Text)

@@ -140,7 +140,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
     case readMaybeInt v of
       Just m | m `elem` [0, 1, 2, 4, 8] -> pure (key n, m)
       _ -> throwError (VerificationError "value-out-of-limits" at ("pack_mode is 0, 1, 2, 4 or 8, not '" <> v <> "' (NX-PRAGMA-11)"))
-  checkRecursion True pous globalBlocks -- before instances are built from their declarations
+  checkRecursion pol True pous globalBlocks -- before instances are built from their declarations
   let envBase =
         Env
           { envPol = pol
@@ -234,7 +234,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   let statics =
         [v {viKey = staticPrefix (pouName p) <> viKey v} | p <- pous, v <- varsOf M.! key (pouName p), viSection v == SecStat]
           ++ [v {viKey = staticPrefix (pouName p <> "." <> m) <> viKey v} | p <- pous, (m, (_, vs)) <- M.toList (membersOf M.! key (pouName p)), v <- vs, viSection v == SecStat]
-  checkRecursion False pous globalBlocks
+  checkRecursion pol False pous globalBlocks
   varConfig <- runReaderT (checkVarConfig pous varsOf ([(inst, TProgram t) | (inst, t) <- programRoots] ++ [(viName g, viType g) | g <- globals]) (concat [es | DVarConfig es <- decls])) env2
   forM_ configs $ \c -> forM_ (cfgResources c) $ \r ->
     when (T.null (resName r)) $ case map taskPos (resTasks r) ++ map pcPos (resPrograms r) of
@@ -370,12 +370,24 @@ sectionAllowed pol k s = case (k, s) of
   where
     codesys = pExtensions pol == ExtensionsCodesys
 
+-- | The Nexto rules that place a section where 'sectionAllowed' refuses it
+-- under CODESYS: globals in a GVL, VAR_TEMP in programs and function blocks,
+-- VAR_STAT not in programs. The manual is silent on VAR_EXTERNAL in a
+-- function (and CODESYS's functions have outputs), so those cite the IEC
+-- core's Tab.2.2 alone.
+sectionRules :: Section -> [Text]
+sectionRules = \case
+  SecGlobal -> ["NX-VAR-7"]
+  SecTemp -> ["NX-VAR-9"]
+  SecStat -> ["NX-VAR-10"]
+  _ -> []
+
 pouVariables :: Pou -> C [VarInfo]
 pouVariables p = do
   pol <- asks envPol
   forM_ (pouVars p) $ \b ->
     unless (sectionAllowed pol (pouKind p) (vbSection b)) $
-      failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is not allowed in a " <> kindName (pouKind p) <> " (TC-VAR-9..15)")
+      failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is not allowed in a " <> kindName (pouKind p) <> " " <> citing pol ("TC-VAR-9..15" : sectionRules (vbSection b)))
   vs <- concat <$> mapM (blockVars (Just (pouKind p))) (pouVars p)
   let names = [(viPos v, viName v) | v <- vs] ++ [(pouPos p, pouName p) | pouKind p == KFunction]
   either throwError pure (runExcept (checkDuplicates names))
@@ -788,7 +800,7 @@ resolveType = \case
       TElem e | isAnyInt e -> pure (TSubrange e lo hi)
       -- NX-TYPE-68: CODESYS also ranges BYTE, WORD, DWORD, LWORD
       TElem e | isBitString e, pExtensions pol == ExtensionsCodesys -> pure (TSubrange e lo hi)
-      _ -> failC "type-mismatch" p "a subrange is a range of an integer type (TC-TYPE-32)"
+      _ -> failC "type-mismatch" p ("a subrange is a range of an integer type " <> citing pol ["TC-TYPE-32", "NX-TYPE-68"])
 
 -- | A constant integer (array bounds, string lengths, subranges).
 constInt :: Expr -> C Integer
@@ -1052,7 +1064,8 @@ checkStmt = \case
     Just . CRepeat p b <$> condition c
   SExit p -> do
     inLoop <- asks envLoop
-    unless inLoop (failC "exit-outside-loop" p "EXIT stands outside a FOR, WHILE or REPEAT loop (TC-STMT-36)")
+    pol <- asks envPol
+    unless inLoop (failC "exit-outside-loop" p ("EXIT stands outside a FOR, WHILE or REPEAT loop " <> citing pol ["TC-STMT-36", "NX-STMT-38"]))
     pure (Just (CExit p))
   SReturn p -> pure (Just (CReturn p))
   SContinue p -> do
@@ -1255,7 +1268,7 @@ fieldOf p base f = do
             pure (CField ref (key f), viType v, case pFBAccess pol of
               AccessIec -> ReadOnly ("the output " <> f <> " of a function block instance is written only by the instance (TC-POU-24)")
               AccessCodesys -> access) -- NX-POU-19
-          _ -> pure (CField ref (key f), viType v, Hidden ("the variable " <> f <> " is internal to the function block " <> fb <> " (TC-POU-23)"))
+          _ -> pure (CField ref (key f), viType v, Hidden ("the variable " <> f <> " is internal to the function block " <> fb <> " " <> citing pol ["TC-POU-23", "NX-POU-19"]))
     _ -> failC "type-mismatch" p (typeText ty <> " has no fields")
   where
     instanceType = \case
@@ -1732,7 +1745,7 @@ binaryExpr expected p o a b = do
         Right t -> fixed p t (CBinary o ca' cb')
         Left msg
           | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
-          | otherwise -> failC "type-mismatch" p (msg <> " (TC-CONV-1: operands of one type)")
+          | otherwise -> failC "type-mismatch" p (msg <> " " <> T.dropEnd 1 (citing pol ["TC-CONV-1", "NX-CONV-1", "NX-CONV-2"]) <> ": operands of one type)")
     -- NX-TYPE-77: an address plus or minus a number of bytes; addresses
     -- compared or subtracted as the DWORDs they are
     pointerOperation op ca cb = case (ceType ca, ceType cb) of
@@ -1958,8 +1971,8 @@ callStandard expected p f args = do
         ArgInput _ _ e -> pure e
         ArgOutput ap _ _ -> failC "not-a-function-block" ap "=> binds outputs of function blocks only"
       formal -> do
-        when (length formal /= length args) (failC "mixed-arguments" p ("the call of " <> f <> " mixes formal and positional arguments (TC-POU-12)"))
         pol <- asks envPol
+        when (length formal /= length args) (failC "mixed-arguments" p ("the call of " <> f <> " mixes formal and positional arguments " <> citing pol ["TC-POU-12", "NX-POU-12", "NX-ERR-30"]))
         case standardParameters pol (key f) (length formal) of
           Nothing -> pure [e | ArgInput _ _ e <- formal]
           Just names -> forM names $ \n -> case [e | ArgInput _ m e <- formal, key m == n] of
@@ -2014,8 +2027,9 @@ bindArgs p callee vars args = do
   let positional = [e | ArgPositional e <- args]
       formal = [a | a <- args, not (isPositional a)]
       params = [v | v <- vars, viSection v `elem` [SecInput, SecInOut]]
+  pol <- asks envPol
   when (not (null positional) && not (null formal)) $
-    failC "mixed-arguments" p ("the call of " <> callee <> " mixes formal (name := value) and positional arguments (TC-POU-12)")
+    failC "mixed-arguments" p ("the call of " <> callee <> " mixes formal (name := value) and positional arguments " <> citing pol ["TC-POU-12", "NX-POU-12", "NX-ERR-30"])
   named <-
     if null formal
       then do
@@ -2123,8 +2137,8 @@ checkCallStmt p callee args = do
 -- block contains an instance of itself. One depth-first walk over the call
 -- graph (linear in its size): the first call that closes a cycle is the
 -- error.
-checkRecursion :: Bool -> [Pou] -> [VarBlock] -> Except VerificationError ()
-checkRecursion containment pous globalBlocks =
+checkRecursion :: Policies -> Bool -> [Pou] -> [VarBlock] -> Except VerificationError ()
+checkRecursion pol containment pous globalBlocks =
   if containment then walk "recursive-type" containEdges else walk "recursive-call" callEdges
   where
     byKey = M.fromList [(key (pouName p), p) | p <- pous]
@@ -2178,7 +2192,7 @@ checkRecursion containment pous globalBlocks =
           foldM (step path node) (S.insert node done) out
         step path node done (callee, q)
           | callee `elem` path =
-              throwError (VerificationError kind q (nameOf node <> (if kind == "recursive-type" then " contains " else " calls ") <> nameOf callee <> ", which leads back to " <> nameOf callee <> ": POUs are not recursive (TC-POU-2)"))
+              throwError (VerificationError kind q (nameOf node <> (if kind == "recursive-type" then " contains " else " calls ") <> nameOf callee <> ", which leads back to " <> nameOf callee <> ": POUs are not recursive " <> citing pol ["TC-POU-2", "NX-POU-50"]))
           | callee `S.member` done = pure done
           | otherwise = visit done (callee : path) callee
     nameOf k = maybe k pouName (M.lookup k byKey)

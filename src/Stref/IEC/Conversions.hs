@@ -200,22 +200,22 @@ conversionType p name ts = check <$> conversionFunction p name
     argument c t = case c of
       Convert x y
         | fits x t -> Right (sideType p y)
-        | otherwise -> wrong (sideText x) t
+        | otherwise -> wrong ["NX-CONV-10"] (sideText x) t
       Trunc
         | Just e <- baseElem t, isAnyReal e -> Right (TElem DINT)
-        | otherwise -> wrong "REAL or LREAL" t
+        | otherwise -> wrong ["NX-CONV-34"] "REAL or LREAL" t
       TruncInt
         | Just e <- baseElem t, isAnyReal e -> Right (TElem INT)
-        | otherwise -> wrong "REAL or LREAL" t
+        | otherwise -> wrong ["NX-CONV-36"] "REAL or LREAL" t
       AnyTo numOnly y
         | Just x <- sourceSide t, not numOnly || isNumber x, x == y || convertible p x y -> Right (sideType p y)
-        | otherwise -> wrong (if numOnly then "number (ANY_NUM)" else "value of a type that converts to " <> sideText y) t
+        | otherwise -> wrong ["NX-TYPE-86"] (if numOnly then "number (ANY_NUM)" else "value of a type that converts to " <> sideText y) t
       BcdToInt src y
         | Just e <- baseElem t, maybe (isBitString e) (== e) src -> Right (TElem y)
-        | otherwise -> wrong (maybe "bit string (BYTE, WORD, DWORD, LWORD)" elemName src) t
+        | otherwise -> wrong [] (maybe "bit string (BYTE, WORD, DWORD, LWORD)" elemName src) t
       IntToBcd x dst
         | baseElem t == Just x -> Right (TElem (fromMaybe (bcdElem x) dst))
-        | otherwise -> wrong (elemName x) t
+        | otherwise -> wrong [] (elemName x) t
     fits x t = case x of
       CElem e -> baseElem t == Just e
       CString -> case t of
@@ -227,7 +227,9 @@ conversionType p name ts = check <$> conversionFunction p name
     isNumber = \case
       CElem e -> isAnyNum e
       CString -> False
-    wrong what t = Left (name <> " converts a " <> what <> ", not a " <> typeText t <> " (TC-CONV-6)")
+    -- the Nexto manual states what X_TO_Y, TRUNC, TRUNC_INT and ANY_TO_Y
+    -- take; of the BCD conversions it gives only examples
+    wrong nx what t = Left (name <> " converts a " <> what <> ", not a " <> typeText t <> " " <> citing p ("TC-CONV-6" : nx))
 
 sideType :: Policies -> ConvType -> Type
 sideType p = \case

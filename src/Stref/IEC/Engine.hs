@@ -195,7 +195,7 @@ iecAnswer traced pol rq = do
   -- from cycle to cycle; re-initialising every call is the MasterTool
   -- controller's (policy lifetime), which this model does not have
   if pLifetime pol == PerCall
-    then Left "lifetime=per-call belongs to the MasterTool controller; the IEC model keeps its state across cycles (TC-POU-15)"
+    then Left ("lifetime=per-call belongs to the MasterTool controller; the IEC model keeps its state across cycles " <> citing pol ["TC-POU-15", "NX-POU-1", "NX-POU-16"])
     else Right ()
   cycle <- cycleMillis pol (maybe "T#10ms" id (rqCycle rq))
   let choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)

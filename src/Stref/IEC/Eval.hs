@@ -374,12 +374,12 @@ tick :: Pos -> Eval ()
 tick p = do
   budget <- asks (pStepBudget . cxPol)
   n <- gets mSteps
-  when (n >= budget) $ fault p (watchdogFault budget)
+  when (n >= budget) $ asks cxPol >>= \pol -> fault p (watchdogFault pol budget)
   modify' (\m -> m {mSteps = n + 1})
 
 -- | The watchdog's error when the cycle exceeds its budget of steps.
-watchdogFault :: Int -> Fault
-watchdogFault budget = Fault "watchdog" ("the cycle ran more than " <> T.pack (show budget) <> " steps: the watchdog ends it (cycle error, TC-ERR-1)")
+watchdogFault :: Policies -> Int -> Fault
+watchdogFault pol budget = Fault "watchdog" ("the cycle ran more than " <> T.pack (show budget) <> " steps: the watchdog ends it (cycle error, " <> T.intercalate ", " (citedIds pol (faultRules "watchdog")) <> ")")
 
 ------------------------------------------------------------------------------
 -- POU calls
@@ -1064,7 +1064,7 @@ fitWhy pol t v = case (t, v) of
          in (Right (VInt e n'), [ruled ["TC-CONV-13", "NX-ERR-23"] "narrow-int" (T.pack (show n) <> " does not fit " <> elemName e <> ": stored as " <> T.pack (show n'))])
   (TSubrange e lo hi, VInt _ n)
     | (n < lo || n > hi) && pSubrange pol == SubrangeError ->
-        (Left (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " (TC-TYPE-33)")), [])
+        (Left (Fault "subrange" ("the value " <> T.pack (show n) <> " lies outside the subrange " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " " <> citing pol (faultRules "subrange"))), [])
     | otherwise ->
         ( Right (VInt e (wrapInt e n))
         , [ruled ["TC-TYPE-33", "NX-ERR-17"] "subrange" (T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": stored unchecked") | (n < lo || n > hi) && pSubrange pol == SubrangeUnchecked]

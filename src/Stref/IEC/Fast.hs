@@ -213,11 +213,11 @@ orFault p = either (abort . Faulted p) pure
 
 -- | The readable evaluator's @tick@: one step of the watchdog's budget
 -- (TC-ERR-1), at the same places.
-tick :: Int -> Pos -> M s ()
-tick budget p = M $ \e -> do
+tick :: Policies -> Int -> Pos -> M s ()
+tick pol budget p = M $ \e -> do
   n <- MU.read (eSteps e) 0
   if n >= budget
-    then pure (Left (Faulted p (watchdogFault budget)))
+    then pure (Left (Faulted p (watchdogFault pol budget)))
     else Right () <$ MU.write (eSteps e) 0 (n + 1)
 
 -- | The checks every call makes (@call-depth@).
@@ -432,7 +432,7 @@ stmt cx = \case
   _ -> Nothing
   where
     pol = cPol cx
-    tk = tick (pStepBudget pol)
+    tk = tick pol (pStepBudget pol)
 
 -- | A value of this type can be stored whole at a place of this shape: an
 -- elementary one, or data of the very type (the readable evaluator would
@@ -463,7 +463,7 @@ forLoop cx p r t start end step body = do
     st0 <- stepOf
     let current v ex = if once then pure v else ex
         loop = do
-          tick (pStepBudget pol) p
+          tick pol (pStepBudget pol) p
           e <- current e0' e0
           stp <- current st0 stepOf
           i <- readPlace Leaf pl

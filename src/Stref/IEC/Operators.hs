@@ -64,7 +64,7 @@ binaryType pol op ta tb = case typeOf op a b <|> bitArithmetic of
   Just t -> Right t
   Nothing
     | a /= b && (isJust' (typeOf op a a) || isJust' (typeOf op b b)) ->
-        Left ("the operands of " <> quoted <> " have different types, " <> typeText ta <> " and " <> typeText tb <> "; convert one explicitly (TC-CONV-1)")
+        Left ("the operands of " <> quoted <> " have different types, " <> typeText ta <> " and " <> typeText tb <> "; convert one explicitly " <> citing pol ["TC-CONV-1", "NX-CONV-1", "NX-CONV-2"])
     | otherwise -> Left ("the operator " <> quoted <> " is not defined on " <> typeText ta <> " and " <> typeText tb)
   where
     a = strip ta

@@ -250,7 +250,7 @@ identifier pol = lexeme pol $ do
           invalid ("the name '" <> w <> "' starts with a digit; a name starts with a letter or an underscore (TC-LEX-11)")
       | isDigit c -> empty <?> "a name"
       | T.any (\x -> isAlpha x && not (isAscii x)) w ->
-          invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only (TC-LEX-12)")
+          invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only " <> citing pol ["TC-LEX-12", "NX-LEX-2"])
       | "__" `T.isInfixOf` w ->
           invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed " <> citing pol ["TC-LEX-14", "NX-LEX-4"])
       | T.toUpper w `Set.member` keywordsOf pol -> empty <?> "a name"
@@ -355,7 +355,7 @@ stringLit pol q = lexeme pol $ do
                   | isHexDigit e -> do
                       e2 <- satisfy isHexDigit <|> failAt eoff "invalid-escape" "$ must be followed by two hexadecimal digits or one of $ ' L N P R T"
                       go off (chr (digitToInt e * 16 + digitToInt e2) : acc)
-                  | otherwise -> failAt eoff "invalid-escape" ("$" <> T.singleton e <> " is not a string escape: $ is followed by $, ', L, N, P, R, T or two hexadecimal digits (TC-LEX-40)")
+                  | otherwise -> failAt eoff "invalid-escape" ("$" <> T.singleton e <> " is not a string escape: $ is followed by $, ', L, N, P, R, T or two hexadecimal digits " <> citing pol ["TC-LEX-40", "NX-LEX-54"])
           | otherwise -> go off (c : acc)
 
 -- | Duration literal body after @T#@ (TC-LEX-41, TC-LEX-44): units d h m s ms

@@ -210,7 +210,7 @@ typing p f ts = case f of
       (TString w n, TString w' m) | w == w' -> Right (TString w (max n m))
       _
         | sameType a b -> Right (plain a)
-        | otherwise -> Left (f <> ": the arguments have different types, " <> typeText a <> " and " <> typeText b <> " (TC-CONV-1)")
+        | otherwise -> Left (f <> ": the arguments have different types, " <> typeText a <> " and " <> typeText b <> " " <> citing p ["TC-CONV-1", "NX-CONV-1", "NX-CONV-2"])
     plain t = maybe t TElem (baseElem t)
     ordered t = case binaryType p BLt t t of
       Right _ -> Right t
