@@ -1745,7 +1745,10 @@ binaryExpr expected p o a b = do
         Right t -> fixed p t (CBinary o ca' cb')
         Left msg
           | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
-          | otherwise -> failC "type-mismatch" p (msg <> " " <> T.dropEnd 1 (citing pol ["TC-CONV-1", "NX-CONV-1", "NX-CONV-2"]) <> ": operands of one type)")
+          | otherwise ->
+              let cited = citing pol ["TC-CONV-1", "NX-CONV-1", "NX-CONV-2"]
+               in -- binaryType's message about different types cites the rule already
+                  failC "type-mismatch" p (if cited `T.isInfixOf` msg then msg else msg <> " " <> T.dropEnd 1 cited <> ": operands of one type)")
     -- NX-TYPE-77: an address plus or minus a number of bytes; addresses
     -- compared or subtracted as the DWORDs they are
     pointerOperation op ca cb = case (ceType ca, ceType cb) of
