@@ -275,6 +275,8 @@ data Policies = Policies
   , pStringOverflow :: !StringOverflow
   , pStringLength :: !Int
   -- ^ the capacity of a STRING declared without one
+  , pArrayDimensions :: !Int
+  -- ^ the most dimensions an array may have
   , pSubrange :: !SubrangeCheck
   , pStandardLibrary :: !StandardLibrary
   , pExtensions :: !Extensions
@@ -329,6 +331,7 @@ mastertoolXE =
     , pStringBounds = StringClamp
     , pStringOverflow = StringTruncate
     , pStringLength = 80
+    , pArrayDimensions = 1 -- MT-TYPE-3, MT-TYPE-4
     , pSubrange = SubrangeError
     , pStandardLibrary = LibraryIec
     , pExtensions = ExtensionsNone
@@ -376,6 +379,7 @@ tecomat =
     , pStringBounds = StringClamp -- TC-STR-15..17
     , pStringOverflow = StringTruncate -- TC-TYPE-27, TC-STR-18
     , pStringLength = 255 -- TC-TYPE-26
+    , pArrayDimensions = 4 -- TC-TYPE-39
     , pSubrange = SubrangeError -- TC-TYPE-33
     , pStandardLibrary = LibraryIec -- TC-FB-2..8
     , pExtensions = ExtensionsNone
@@ -422,6 +426,7 @@ nexto =
     , pStringBounds = StringClamp -- NX-STR-11
     , pStringOverflow = StringTruncate -- NX-TYPE-26, NX-TYPE-27
     , pStringLength = 80 -- NX-TYPE-24
+    , pArrayDimensions = 3 -- NX-TYPE-42
     , pSubrange = SubrangeUnchecked -- NX-TYPE-71, NX-ERR-17
     , pStandardLibrary = LibraryCodesys -- NX-FB-1, NX-FB-4, NX-FB-11
     , pExtensions = ExtensionsCodesys
@@ -552,6 +557,7 @@ policyTable =
   , enumPolicy "string-bounds" ["clamp", "error"] pStringBounds (\v p -> p {pStringBounds = v})
   , enumPolicy "string-overflow" ["truncate", "error"] pStringOverflow (\v p -> p {pStringOverflow = v})
   , numPolicy "string-length" pStringLength (\v p -> p {pStringLength = max 1 v})
+  , numPolicy "array-dimensions" pArrayDimensions (\v p -> p {pArrayDimensions = max 1 v})
   , enumPolicy "subrange" ["error", "unchecked"] pSubrange (\v p -> p {pSubrange = v})
   , enumPolicy "standard-library" ["iec", "codesys"] pStandardLibrary (\v p -> p {pStandardLibrary = v})
   , enumPolicy "extensions" ["none", "codesys"] pExtensions (\v p -> p {pExtensions = v})

@@ -729,7 +729,9 @@ resolveType = \case
     when (n < 1) (failC "value-out-of-limits" p "a string's length must be at least 1")
     pure (TString wide (fromInteger (toInteger n)))
   TSArray p dims t -> do
-    when (length dims > 4) (failC "too-many-dimensions" p "an array has at most 4 dimensions (TC-TYPE-39)")
+    pol <- asks envPol
+    let most = pArrayDimensions pol
+    when (length dims > most) (failC "too-many-dimensions" p ("an array has at most " <> T.pack (show most) <> " dimensions " <> citing pol ["TC-TYPE-39", "NX-TYPE-42"]))
     bs <- forM dims $ \(a, b) -> do
       lo <- constInt a
       hi <- constInt b
