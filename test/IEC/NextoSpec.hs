@@ -14,7 +14,7 @@ import Stref.Policy
 import Support.Iec
 import Test.Hspec
 import Test.QuickCheck (property)
-import Stref.IEC.Memory (Layout (..), decode, encode)
+import Stref.IEC.Memory (decode, encode, layout)
 import Stref.Conformance.Protocol (Scalar (..))
 
 spec :: Spec
@@ -205,8 +205,8 @@ spec = describe "the nexto dialect" $ do
       runUnit nexto (unionSrc "d : DWORD; bs : ARRAY [0..3] OF BYTE;" "a[1].d := 16#AABBCCDD; a[2].d := 1; x := a[2].d;") 1 "MAIN.x" `shouldBe` Right (VInt DWORD 1)
     it "the bytes of a value read back as the value (integers of every width, REAL, LREAL, TIME under each time-range)" $
       property $ \(n :: Integer) (f :: Float) (d :: Double) ->
-        let ly r = Layout (const []) (const Nothing) r
-            bytes = Layout (const []) (const Nothing) TimeUnsigned
+        let ly r = layout (const []) (const Nothing) r
+            bytes = layout (const []) (const Nothing) TimeUnsigned
             signedTime = wrapInt TIME n
             unsignedTime = n `mod` 2 ^ (32 :: Int)
          in and [decode bytes (TElem e) (encode bytes (TElem e) (VInt e (wrapInt e n))) == VInt e (wrapInt e n) | e <- allElems, isInt e]

@@ -26,7 +26,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
-import Stref.IEC.Memory (Layout (..), sizeInBytes)
+import Stref.IEC.Memory (layout, sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, fitsUnder, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
 import Stref.IEC.StandardFB (libraryTypes, standardFBNames, standardFBs)
@@ -1394,7 +1394,7 @@ pointerStep t = do
   packs <- asks envPackModes
   pol <- asks envPol
   let membersOf n = [(viKey v, viType v) | v <- maybe (M.findWithDefault [] (key n) varsOf) pdVars (M.lookup (key n) std), isNothing (viAt v)]
-  pure (sizeInBytes (Layout membersOf (`M.lookup` packs) (pTimeRange pol)) t)
+  pure (sizeInBytes (layout membersOf (`M.lookup` packs) (pTimeRange pol)) t)
 
 fbVars :: Text -> C [VarInfo]
 fbVars fb = do

@@ -118,7 +118,9 @@ runProgramWith ev observer traced pol file src choice cycle initial calls = do
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
               -- nothing kept without an observer: a long run stays in constant memory
               seen' = maybe seen (\f -> (k, f prog m2) : seen) observer
-          case stop of
+          -- err' and seen' evaluated now: left as thunks, each would hold
+          -- its cycle's machine until the end of the run
+          case err' `seq` seen' `seq` stop of
             Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k, reverse seen')
             _ -> go m2 (k + 1) err' seen' rest
     case initError of

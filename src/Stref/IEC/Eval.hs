@@ -49,7 +49,7 @@ import Numeric (showHex)
 import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, isConversionName, truncTo)
-import Stref.IEC.Memory (Layout (..), areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
+import Stref.IEC.Memory (Layout (..), layout, remembering, areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binary, binaryWhy, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
@@ -79,14 +79,18 @@ data Signal = SigExit | SigReturn | SigContinue | SigJump Text | SigFault Pos Fa
 data Ctx = Ctx
   { cxPol :: Policies
   , cxProgram :: Program
-  , cxLayout :: Layout -- ^ the program's layout in bytes (layoutOf), made once
   , cxSelf :: RefPath -- ^ the running POU's instance or frame
   , cxThis :: RefPath -- ^ the instance its code runs on (a method's: NX-POU-27)
   , cxChecked :: Bool -- ^ do the implicit check functions apply here (NX-ERR-3, NX-ERR-4)
   , cxWriting :: Bool -- ^ is the reference being resolved written (CheckPointer's bWrite, NX-ERR-19)
   , cxDepth :: Int
   , cxNames :: M.Map Text Text -- ^ the variables' names as declared, by key: for the trace (built only when used)
+  , cxMemory :: MemoryMap -- ^ the layout and where the globals and program instances lie (built once, when used)
   }
+
+-- | The context a cycle or an initialisation starts in.
+topContext :: Policies -> Program -> Ctx
+topContext pol prog = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog) (memoryMap prog)
 
 type Eval = ReaderT Ctx (ExceptT Signal (State Machine))
 
@@ -228,7 +232,7 @@ everyInstance prog act = do
 -- | Run initialisation code outside a cycle.
 runInit :: Policies -> Program -> Machine -> Eval () -> (Machine, Maybe Stop)
 runInit pol prog m0 act =
-  let ctx = Ctx pol prog (layoutOf prog) (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
+  let ctx = topContext pol prog
       (r, m) = runState (runExceptT (runReaderT act ctx)) m0 {mSteps = 0, mFrames = M.empty}
    in case r of
         Left (SigFault p f) -> (m, Just (StopFault p f))
@@ -252,7 +256,7 @@ runCycle pol prog clock m0 =
       run = forM_ [(inst, t) | (inst, t) <- prInstances prog, due inst] $ \(inst, t) -> case lookupPou prog t of
         Just d -> let here = RefPath (RootProgram (key inst)) [] in local (\c -> c {cxSelf = here, cxThis = here}) (callBody d)
         Nothing -> pure ()
-      ctx = Ctx pol prog (layoutOf prog) (RefPath (RootProgram "") []) (RefPath (RootProgram "") []) True False 0 (declaredNames prog)
+      ctx = topContext pol prog
       (r, m') = runState (runExceptT (runReaderT run ctx)) m
    in case r of
         Left (SigFault p f) -> (traceFault pol p f m', Just (StopFault p f))
@@ -525,8 +529,9 @@ implicitCheck :: Pos -> Text -> [Value] -> Eval (Maybe Value)
 implicitCheck p name args = do
   checked <- asks cxChecked
   prog <- asks cxProgram
-  case lookupPou prog name of
-    Just d | checked, name `elem` prChecks prog -> do
+  -- the declared check functions asked first: most programs declare none
+  case (checked && name `elem` prChecks prog, lookupPou prog name) of
+    (True, Just d) -> do
       pol <- asks cxPol
       let params = [v | v <- pdVars d, viSection v == SecInput]
       inputs <- forM (zip params args) $ \(v, a) -> (viKey v,) <$> orFault p (convertValue pol (viType v) a)
@@ -965,8 +970,7 @@ refPath p = \case
     -- NX-ERR-19: CheckPointer sees the access first, its result is used
     v0 <- eval e
     writing <- asks cxWriting
-    prog <- asks cxProgram
-    let ly = layoutOf prog
+    ly <- asks (mmLayout . cxMemory)
     v <- maybe v0 (VInt DWORD . intValue) <$> implicitCheck p "CHECKPOINTER" [v0, VInt DINT (sizeInBytes ly t), VInt DINT (granularity ly t), VBool writing]
     case v of
       VInt _ 0 -> fault p (Fault "null-pointer" "the pointer is 0: it points at no variable")
@@ -1093,7 +1097,7 @@ getPath path = getPathOr path (VBool False)
 getPathOr :: RefPath -> Value -> Eval Value
 getPathOr path dflt = do
   RefPath r steps <- narrowed path
-  ly <- asks cxLayout
+  ly <- asks (mmLayout . cxMemory)
   gets (\m -> fromMaybe dflt (rootValue ly r m >>= walk ly steps))
 
 -- | A path into a direct-address area's bytes reaches the bytes of its
@@ -1103,7 +1107,7 @@ getPathOr path dflt = do
 narrowed :: RefPath -> Eval RefPath
 narrowed path = case path of
   RefPath (RootBytes area a t) steps@(_ : _) -> do
-    ly <- asks cxLayout
+    ly <- asks (mmLayout . cxMemory)
     let go off ty = \case
           s : rest
             | offsetStep s, Just (o, ft) <- offsetOf ly ty [s] -> go (off + o) ft rest
@@ -1129,7 +1133,7 @@ walk ly (s : rest) v = case (s, v) of
   _ -> Nothing
 
 putPath :: RefPath -> Value -> Eval ()
-putPath path v = narrowed path >>= \(RefPath r steps) -> asks cxLayout >>= \ly -> modify' $ \m -> case rootValue ly r m of
+putPath path v = narrowed path >>= \(RefPath r steps) -> asks (mmLayout . cxMemory) >>= \ly -> modify' $ \m -> case rootValue ly r m of
   Just root -> setRoot ly r (updateAt ly steps v root) m
   Nothing -> m
 
@@ -1162,38 +1166,53 @@ linearIndex bs is = fromInteger (foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1
 -- Addresses (CODESYS pointers, Stref.IEC.Memory)
 
 layoutOf :: Program -> Layout
-layoutOf prog = Layout (\n -> maybe [] (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (lookupPou prog n)) (`M.lookup` prPackModes prog) (prTimeRange prog)
+layoutOf prog = remembering types (layout (\n -> M.findWithDefault [] (key n) members) (`M.lookup` prPackModes prog) (prTimeRange prog))
+  where
+    members = M.map (\d -> [(viKey v, viType v) | v <- pdVars d, viAt v == Nothing]) (prPous prog)
+    -- the types of the variables, and of the instances of each POU
+    types = map viType (prGlobals prog) ++ concat [TFB (pdName d) : TProgram (pdName d) : TProgram k : map viType (pdVars d) | (k, d) <- M.toList (prPous prog)]
+
+-- | The program's layout and the roots of memory that stay where they are
+-- during a cycle (globals and program instances) with their types,
+-- addresses and sizes: what 'roots' would compute again at every address.
+data MemoryMap = MemoryMap
+  { mmLayout :: Layout
+  , mmRoots :: [(Root, Type, Integer)]
+  }
+
+memoryMap :: Program -> MemoryMap
+memoryMap prog = MemoryMap ly (globals ++ programs)
+  where
+    ly = layoutOf prog
+    globals = placeAll ly globalsBase [(RootGlobal (viKey v), viType v) | v <- prGlobals prog, viAt v == Nothing]
+    programs = placeAll ly programsBase [(RootProgram (key inst), TProgram t) | (inst, t) <- prRoots prog]
 
 -- | The roots of memory with their types and addresses: globals, program
 -- instances, the frames of the calls under way.
 roots :: Eval [(Root, Type, Integer)]
 roots = do
-  prog <- asks cxProgram
+  fixed <- asks (mmRoots . cxMemory)
   frames <- gets mFrames
-  let ly = layoutOf prog
-      globals = placeAll ly globalsBase [(RootGlobal (viKey v), viType v) | v <- prGlobals prog, viAt v == Nothing]
-      programs = placeAll ly programsBase [(RootProgram (key inst), TProgram t) | (inst, t) <- prRoots prog]
-      frameRoots = [(RootFrame d, TProgram n, frameBase d) | (d, VInstance n _) <- M.toList frames]
-  pure (globals ++ programs ++ frameRoots)
+  let frameRoots = [(RootFrame d, TProgram n, frameBase d) | (d, VInstance n _) <- M.toList frames]
+  pure (fixed ++ frameRoots)
 
 addressOf :: RefPath -> Eval (Maybe Integer)
 addressOf (RefPath r steps) = do
-  prog <- asks cxProgram
+  ly <- asks (mmLayout . cxMemory)
   rs <- roots
   pure $ do
     (t, base) <- case r of
       RootBytes area a t -> (t,) . (+ a) <$> areaBase area
       _ -> (\(_, t, base) -> (t, base)) <$> find (\(r', _, _) -> r' == r) rs
-    (off, _) <- offsetOf (layoutOf prog) t steps
+    (off, _) <- offsetOf ly t steps
     pure (base + off)
 
 -- | The variable of a type at an address: the root whose bytes hold it,
 -- then the path inside.
 variableAt :: Integer -> Type -> Eval (Maybe RefPath)
 variableAt a t = do
-  prog <- asks cxProgram
+  ly <- asks (mmLayout . cxMemory)
   rs <- roots
-  let ly = layoutOf prog
   pure $ case areaAt a of
     -- in a direct-address area: its bytes, read as the pointer's type
     Just (area, byte) -> Just (RefPath (RootBytes area byte t) [])

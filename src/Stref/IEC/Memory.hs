@@ -24,6 +24,8 @@
 -- one variable (@ADR(a[2]) - ADR(a[1])@) and on pointer arithmetic in bytes.
 module Stref.IEC.Memory
   ( Layout (..)
+  , layout
+  , remembering
   , sizeAlign
   , sizeInBytes
   , offsetOf
@@ -45,6 +47,7 @@ import Data.Bits (shiftL, shiftR, (.&.))
 import Data.Char (chr, ord)
 import Data.Foldable (toList)
 import Data.List (dropWhileEnd, elemIndex, find)
+import qualified Data.Map as ML
 import qualified Data.Map.Strict as M
 import Data.Maybe (fromMaybe, listToMaybe)
 import qualified Data.Sequence as Seq
@@ -63,10 +66,50 @@ data Layout = Layout
   { lyMembers :: Text -> [(Text, Type)]
   , lyPack :: Text -> Maybe Integer
   , lyTimeRange :: TimeRange -- ^ how a TIME's four bytes count (policy time-range, NX-TYPE-30)
+  , lyKnown :: Type -> Maybe Known
+  -- ^ what 'remembering' computed beforehand for a named type; Nothing:
+  -- computed by the rules
   }
 
+-- | A type's size and alignment, and its members with their offsets, as
+-- 'sizeAlign' and 'members' give them.
+data Known = Known (Integer, Integer) (Maybe [(Text, Type, Integer)])
+
+-- | A layout with the given members, pack modes and time range.
+layout :: (Text -> [(Text, Type)]) -> (Text -> Maybe Integer) -> TimeRange -> Layout
+layout ms pk tr = Layout ms pk tr (const Nothing)
+
+-- | The same layout, which computes the size, alignment and members of
+-- each named type among the given ones (and the types inside them) once,
+-- when first asked, and then remembers them.
+remembering :: [Type] -> Layout -> Layout
+remembering ts ly = known
+  where
+    known = ly {lyKnown = \t -> named t >>= (`ML.lookup` table)}
+    -- lazy: an entry is computed when first looked up
+    table = ML.fromList [(k, Known (sizeAlignBy known t) (membersBy known t)) | t <- concatMap inside ts, Just k <- [named t]]
+    inside t = t : case t of
+      TArray _ et -> inside et
+      TStruct _ fs -> concatMap (inside . snd) fs
+      TUnion _ fs -> concatMap (inside . snd) fs
+      _ -> []
+    -- a named type by its name: one declaration gives a structure or
+    -- union type its name (the checker's), a POU's layout follows from
+    -- its name
+    named :: Type -> Maybe (Int, Text)
+    named = \case
+      TStruct n _ | not (T.null n) -> Just (0, n)
+      TUnion n _ | not (T.null n) -> Just (1, n)
+      TFB n -> Just (2, n)
+      TProgram n -> Just (3, n)
+      _ -> Nothing
+
 sizeAlign :: Layout -> Type -> (Integer, Integer)
-sizeAlign ly = \case
+sizeAlign ly t = maybe (sizeAlignBy ly t) (\(Known sa _) -> sa) (lyKnown ly t)
+
+-- | The rules of the size and alignment of a type.
+sizeAlignBy :: Layout -> Type -> (Integer, Integer)
+sizeAlignBy ly = \case
   TElem e -> let n = elemSize e in (n, n)
   TString w n -> if w then (2 * (toInteger n + 1), 2) else (toInteger n + 1, 1)
   TArray bs t -> let (s, a) = sizeAlign ly t in (count bs * s, a)
@@ -111,7 +154,10 @@ count bs = product [hi - lo + 1 | (lo, hi) <- bs]
 
 -- | The members of a structured type with their offsets.
 members :: Layout -> Type -> Maybe [(Text, Type, Integer)]
-members ly t = case t of
+members ly t = maybe (membersBy ly t) (\(Known _ ms) -> ms) (lyKnown ly t)
+
+membersBy :: Layout -> Type -> Maybe [(Text, Type, Integer)]
+membersBy ly t = case t of
   TUnion _ fs -> Just [(T.toUpper k, ft, 0) | (k, ft) <- fs]
   _ -> members' ly t
 

@@ -346,7 +346,7 @@ inRange p e n
 -- other type's is its own.
 rangeUnder :: Policies -> Elem -> (Integer, Integer)
 rangeUnder p e
-  | e == TIME && pTimeRange p == TimeUnsigned = (0, 2 ^ (32 :: Int) - 1)
+  | e == TIME && pTimeRange p == TimeUnsigned = intRange DWORD
   | otherwise = intRange e
 
 fitsUnder :: Policies -> Elem -> Integer -> Bool
@@ -355,7 +355,7 @@ fitsUnder p e n = let (lo, hi) = rangeUnder p e in lo <= n && n <= hi
 -- | The low bits of a value, read in the type's range under the policies.
 wrapUnder :: Policies -> Elem -> Integer -> Integer
 wrapUnder p e n
-  | e == TIME && pTimeRange p == TimeUnsigned = n `mod` 2 ^ (32 :: Int)
+  | e == TIME && pTimeRange p == TimeUnsigned = wrapInt DWORD n
   | otherwise = wrapInt e n
 
 -- | Integer or duration division by zero (TC-OP-22, policy @div-zero@):

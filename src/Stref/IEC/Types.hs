@@ -25,6 +25,7 @@ module Stref.IEC.Types
   ) where
 
 import Data.Text (Text)
+import GHC.Arr (Array, listArray, (!))
 import qualified Data.Text as T
 
 -- | The elementary types (TC-TYPE-1..17; LINT, ULINT, LWORD and LTIME are
@@ -137,9 +138,16 @@ intBits = \case
   LTIME -> 64
   _ -> 64
 
--- | The range of an integer or bit-string type (Tab.3.6).
+-- | The range of an integer or bit-string type (Tab.3.6): 'rangeOf',
+-- computed once for each type.
 intRange :: Elem -> (Integer, Integer)
-intRange e
+intRange e = ranges ! fromEnum e
+
+ranges :: Array Int (Integer, Integer)
+ranges = listArray (fromEnum (minBound :: Elem), fromEnum (maxBound :: Elem)) [rangeOf e | e <- [minBound .. maxBound]]
+
+rangeOf :: Elem -> (Integer, Integer)
+rangeOf e
   | isSignedInt e || e == TIME || e == LTIME = (negate (2 ^ (n - 1)), 2 ^ (n - 1) - 1)
   | otherwise = (0, 2 ^ n - 1)
   where

@@ -109,12 +109,12 @@ defaultValue = \case
 fitInt :: Elem -> Integer -> Bool
 fitInt e n = let (lo, hi) = intRange e in n >= lo && n <= hi
 
--- | Two's complement wrap into the type's range (keeps the low bits).
+-- | Two's complement wrap into the type's range (keeps the low bits): the
+-- value of the range that differs from n by a multiple of 2^bits.
 wrapInt :: Elem -> Integer -> Integer
 wrapInt e n =
-  let bits = intBits e
-      m = n `mod` (2 ^ bits)
-   in if (isSignedInt e || e == TIME || e == LTIME) && m >= 2 ^ (bits - 1) then m - 2 ^ bits else m
+  let (lo, hi) = intRange e
+   in lo + (n - lo) `mod` (hi - lo + 1)
 
 valueElem :: Value -> Maybe Elem
 valueElem = \case
