@@ -45,6 +45,7 @@ module Stref.Policy
   , SubrangeInitial (..)
   , TimeRange (..)
   , Model (..)
+  , SourceForm (..)
   , mastertoolXE
   , tecomat
   , nexto
@@ -239,8 +240,17 @@ data SubrangeInitial = SubrangeLowerBound | SubrangeZero
 data Model = MasterToolController | IecController
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | How the dialect writes a compilation unit, for the IEC parser and
+-- checker: IEC 61131-3's (TYPE, VAR_GLOBAL, POUs, direct addresses %IX0.1,
+-- Tecomat's %X0.2), or a MasterTool XE module (global VAR blocks before the
+-- one PROGRAM, MT-POU-1; PLC operands %M0010, %M0010.3, %F0002, MT-MAP-2,
+-- Stref.IEC.Dialect.MasterTool). Part of the preset, like the model.
+data SourceForm = IecSource | MasterToolSource
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
 data Policies = Policies
   { pModel :: !Model
+  , pSourceForm :: !SourceForm
   , pOverflow :: !Overflow
   , pArithWidth :: !ArithWidth
   , pDivZero :: !DivZero
@@ -300,6 +310,7 @@ mastertoolXE :: Policies
 mastertoolXE =
   Policies
     { pModel = MasterToolController
+    , pSourceForm = MasterToolSource -- MT-POU-1, MT-MAP-2
     , pOverflow = Saturate -- MT-OP-6, MT-OP-7
     , pArithWidth = OperandType -- MT-OP-4
     , pDivZero = DivZeroError -- MT-OP-9
@@ -350,6 +361,7 @@ tecomat :: Policies
 tecomat =
   Policies
     { pModel = IecController
+    , pSourceForm = IecSource
     , pOverflow = Wrap -- TC-OP-20
     , pArithWidth = OperandType -- TC-CONV-2
     , pDivZero = DivZeroError -- TC-OP-22

@@ -26,6 +26,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
+import Stref.IEC.Dialect.MasterTool (operandTypes, reservedWord)
 import Stref.IEC.Memory (layout, sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, fitsUnder, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
@@ -92,7 +93,7 @@ standardFunctionNames =
 reservedName :: Policies -> Text -> Bool
 reservedName pol n =
   let u = key n
-   in isJust (parseElemName u) || isJust (conversionName pol u)
+   in if pSourceForm pol == MasterToolSource then reservedWord pol u else isJust (parseElemName u) || isJust (conversionName pol u)
         || case pReservedNames pol of
           ReservedIec ->
             u `elem` standardFunctionNames || u `elem` standardFBNames || u `elem` standardParameterNames
@@ -125,7 +126,8 @@ checkUnit pol choice (Unit decls) = runExcept $ do
   let typeDecls = concat [ts | DTypes ts <- decls]
       pous = [p | DPou p <- decls]
       configs = [c | DConfig c <- decls]
-      globalBlocks = [b | DGlobals b <- decls] ++ concat [cfgGlobals c ++ concatMap resGlobals (cfgResources c) | c <- configs]
+      -- MT-POU-1: a MasterTool module's VAR blocks before its POUs are its globals
+      globalBlocks = [if pSourceForm pol == MasterToolSource && vbSection b == SecVar then b {vbSection = SecGlobal} else b | DGlobals b <- decls] ++ concat [cfgGlobals c ++ concatMap resGlobals (cfgResources c) | c <- configs]
       -- a POU of the unit hides a library FB of its name (the library's
       -- FBs beyond IEC's are not reserved names)
       std = M.fromList [(k, d) | (k, d) <- standardFBs pol, k `notElem` map (key . pouName) pous]
@@ -575,8 +577,13 @@ declVars kind sec constant retention d = do
   -- TC-ADDR-4, TC-ADDR-5: a BOOL lies at a bit address; under CODESYS also
   -- at a byte, word or double word address, of which it fills the first
   -- byte (NX-TYPE-18)
+  -- MT-MAP-5, MT-MAP-6, MT-MAP-11 (Table 4-8): the types a MasterTool operand takes
+  case vdAt d of
+    Just l | pSourceForm pol == MasterToolSource, ty `notElem` map TElem (operandTypes l) ->
+      failC "incompatible-operand" (vdPos d) ("the PLC operand " <> locText l <> " is incompatible with " <> typeText ty)
+    _ -> pure ()
   case (vdAt d, ty) of
-    (Just l, TElem BOOL) | locationType l /= TElem BOOL, not (incomplete l), not (pExtensions pol == ExtensionsCodesys && byteSized l) -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
+    (Just l, TElem BOOL) | pSourceForm pol /= MasterToolSource, locationType l /= TElem BOOL, not (incomplete l), not (pExtensions pol == ExtensionsCodesys && byteSized l) -> failC "type-mismatch" (vdPos d) ("the address " <> locText l <> " is not a bit; a BOOL lies at an address such as %IX0.1 or %X0.1")
     _ -> pure ()
   base <- resolveDefault (vdType d)
   -- NX-VAR-24: under CODESYS an initial value may use variables and calls;

@@ -20,10 +20,12 @@ import Data.Maybe (fromMaybe, isJust)
 import qualified Data.Set as Set
 import Data.Text (Text)
 import qualified Data.Text as T
+import Stref.IEC.Dialect.MasterTool (operandLocation)
 import Stref.IEC.Pragma (preprocessWith)
 import Stref.IEC.Syntax
 import Stref.IEC.Types (Elem (..))
-import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..), citing)
+import Stref.Operands (parseOperand)
+import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..), SourceForm (..), citing)
 import Stref.Verification (VerificationError (..))
 import Text.Megaparsec hiding (Pos)
 import Text.Megaparsec.Char (char, string, string')
@@ -514,6 +516,19 @@ prefixed pol = do
 -- | A direct address (TC-ADDR-1..5): @%@, a location letter, an optional
 -- size letter, numbers separated by dots.
 location :: Policies -> Parser Location
+location pol | pSourceForm pol == MasterToolSource = lexeme pol $ do
+  -- MT-MAP-2, MT-MAP-7, MT-MAP-16: a MasterTool operand, %M0010, %M10.3,
+  -- %F0002, %TM0010[5], read by the operand rules of Stref.Operands
+  off <- getOffset
+  _ <- char '%'
+  letters <- takeWhileP Nothing isAsciiLetter
+  digits <- takeWhileP Nothing isDigit
+  sub <- option "" (choice [(\b -> "." <> b) <$> (char '.' *> takeWhile1P Nothing isDigit), (\p -> "[" <> p <> "]") <$> (char '[' *> takeWhile1P Nothing isDigit <* char ']')])
+  case parseOperand ("%" <> letters <> digits <> sub) >>= operandLocation of
+    Left why -> failAt off "invalid-operand" why
+    Right l -> pure l
+  where
+    isAsciiLetter c = isAsciiUpper c || isAsciiLower c
 location pol = lexeme pol $ do
   off <- getOffset
   _ <- char '%'

@@ -1,0 +1,78 @@
+-- | MasterTool XE's PLC operands as data of the IEC core (docs/architecture.md,
+-- "MasterTool XE on the IEC core"): what the IEC parser and checker need to
+-- read a MasterTool module when the preset's source form is
+-- 'Stref.Policy.MasterToolSource'.
+--
+-- An operand is a located variable of the core. Each operand kind is an
+-- area of bytes of its own (the area letter is the operand's letter), and
+-- operand n occupies the bytes n × w .. n × w + w - 1 of its area, w being
+-- the operand's width in bytes (%E, %S, %A one, %M two, %I and %F four;
+-- MT-MAP-17). A bit of %M n is a bit of one of its two bytes, the bytes
+-- little-endian as in the core. The types Table 4-8 allows on an operand
+-- have exactly its width (MT-MAP-5), so that no variable straddles two
+-- operands and this byte layout cannot be told from a table of typed slots.
+module Stref.IEC.Dialect.MasterTool
+  ( operandLocation
+  , locationOperand
+  , operandTypes
+  , operandByteWidth
+  , reservedWord
+  ) where
+
+import qualified Data.Text as T
+import Stref.Lexical (WordClass (..), classifyWord)
+import Stref.IEC.Syntax (Location (..))
+import Stref.IEC.Types (Elem (..))
+import Stref.Operands (Operand (..), SimpleKind (..), parseOperand, renderOperand, simpleLetter)
+import Stref.Policy (Policies)
+
+-- | The bytes of one operand of a kind (MT-MAP-17, Table 2-1).
+operandByteWidth :: SimpleKind -> Integer
+operandByteWidth = \case
+  KE -> 1
+  KS -> 1
+  KA -> 1
+  KM -> 2
+  KI -> 4
+  KF -> 4
+
+-- | An operand as the core's location: its bytes in its kind's area; the
+-- text is the operand's canonical spelling (four-digit addresses). Table
+-- positions (%TM0010[5]) are not yet located variables of the core.
+operandLocation :: Operand -> Either T.Text Location
+operandLocation op = case op of
+  OpSimple k a -> Right (Location txt (letter k) (sizeOf k) [toInteger a * operandByteWidth k])
+  -- MT-MAP-6: a bit of %E, %S, %A (0..7) or %M (0..15)
+  OpBit k a b -> Right (Location txt (letter k) 'X' [toInteger a * operandByteWidth k + toInteger b `div` 8, toInteger b `mod` 8])
+  OpTablePos {} -> Left ("the table position " <> txt <> " is not a located variable of the IEC core yet")
+  where
+    txt = renderOperand op
+    letter = T.head . simpleLetter
+    sizeOf = \case
+      KM -> 'W'
+      KI -> 'D'
+      KF -> 'D'
+      _ -> 'B'
+
+-- | The operand a location of 'operandLocation' was made from (Nothing for
+-- any other location).
+locationOperand :: Location -> Maybe Operand
+locationOperand l = either (const Nothing) Just (parseOperand (locText l))
+
+-- | The types a variable mapped onto the location may have (MT-MAP-5,
+-- MT-MAP-6: Table 4-8).
+operandTypes :: Location -> [Elem]
+operandTypes l = case locationOperand l of
+  Just (OpBit {}) -> [BOOL]
+  Just (OpSimple k _) -> case k of
+    KM -> [INT, WORD]
+    KI -> [DINT, DWORD]
+    KF -> [REAL]
+    _ -> [USINT, BYTE]
+  _ -> []
+
+-- | A word a MasterTool declaration cannot take as its name (MT-LEX-17):
+-- keywords, type names, standard function names, the predeclared signals
+-- and INTERNAL_ names, as the MasterTool lexer classifies them.
+reservedWord :: Policies -> T.Text -> Bool
+reservedWord pol w = classifyWord pol (T.toUpper w) /= WPlain

@@ -1,0 +1,210 @@
+-- | The MasterTool XE controller on the IEC core: a first slice
+-- (docs/architecture.md, "MasterTool XE on the IEC core").
+--
+-- 'coreAnswer' answers a MasterTool request with the IEC parser, checker and
+-- definitional evaluator ('Stref.IEC.Eval.runCycle'), under the MasterTool
+-- preset, and the controller's rules around a module call written here:
+-- operands as located variables (Stref.IEC.Dialect.MasterTool), per-call
+-- initialisation of everything not mapped (MT-MAP-1), initialisers of
+-- mapped variables written at every call (MT-MAP-15), INPUT1 (MT-SIG-3),
+-- OUTPUT1 (MT-SIG-4, MT-SIG-5), the diagnostic band (MT-DIAG-2, MT-DIAG-4).
+-- What the slice does not cover yet it declines with the reason.
+--
+-- 'compareOnCore' runs a request through today's MasterTool engine
+-- ('Stref.Engine.referenceEngine') and through the core, and says whether
+-- their observable results agree.
+module Stref.IEC.Dialect.MasterToolCore
+  ( coreAnswer
+  , Comparison (..)
+  , compareOnCore
+  , widenObservation
+  ) where
+
+import Control.Monad (forM, forM_, unless, when)
+import Data.List (nub, sortOn)
+import qualified Data.Map.Strict as M
+import Data.Maybe (isJust)
+import Data.Text (Text)
+import qualified Data.Text as T
+import Data.Word (Word32)
+import Stref.Conformance.Protocol
+import Stref.Engine (referenceEngine, scalarToCellBits)
+import Stref.IEC.Check (ProgramChoice (..), checkUnit)
+import Stref.IEC.Checked (PouDef (..), Program (..), VarInfo (..), lookupPou)
+import Stref.IEC.Dialect.MasterTool (operandLocation)
+import Stref.IEC.Eval (Machine (..), Stop (..), initialMachine, initialize, readLocatedVar, runCycle, writeLocatedVar)
+import Stref.IEC.Parser (parseUnit)
+import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Unit (..), VarBlock (..), VarDecl (..))
+import Stref.IEC.Types (Elem (..), Type (..))
+import Stref.IEC.Values (Fault (..), Value (..))
+import Stref.Operands (Operand (..), SimpleKind (..), cellDeclared, operandCell, parseOperand, renderOperand)
+import Stref.Policy (Policies (..))
+import Stref.Syntax (Pos (..))
+import Stref.Values (realFromBits)
+import Stref.Verification (VerificationError (..))
+
+-- | The unit and its checked program, or the core's rejection.
+checkedOnCore :: Policies -> Request -> Either VerificationError (Unit, Program)
+checkedOnCore pol rq = do
+  u <- parseUnit pol (T.unpack (rqCase rq)) (rqSource rq)
+  (u,) <$> checkUnit pol ProgramsOfConfiguration u
+
+-- | The mapped variables of the program (globals and the program's own),
+-- each with its initial value when its declaration has an initialiser.
+mapped :: Unit -> Program -> [(Location, Type, Maybe Value)]
+mapped (Unit decls) prog =
+  [(l, viType v, initial l v) | v <- prGlobals prog, Just l <- [viAt v]]
+    ++ [(l, viType v, initial l v) | (_, t) <- prRoots prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
+  where
+    initialised = [(n, l) | d <- concat [vbDecls b | b <- [b | DGlobals b <- decls] ++ concat [pouVars p | DPou p <- decls]], isJust (vdInit d), Just l <- [vdAt d], (_, n) <- vdNames d]
+    initial l v = if (viName v, l) `elem` initialised then Just (viInit v) else Nothing
+
+-- | MT-ERR-2050: MasterTool stops a call nested deeper than 16 calls. The
+-- core has no such limit yet; without recursion (MT-POU-10) a program of
+-- fewer than 16 functions cannot reach it.
+mayNestTooDeep :: Unit -> Bool
+mayNestTooDeep (Unit decls) = length [() | DPou p <- decls, pouKind p == KFunction] >= 16
+
+-- | An operand as a location and the type of its whole width.
+operandPlace :: Operand -> Either Text (Location, Type)
+operandPlace op = (\l -> (l, TElem (widthType op))) <$> operandLocation op
+  where
+    widthType = \case
+      OpBit {} -> BOOL
+      OpSimple k _ -> case k of
+        KM -> WORD
+        KI -> DWORD
+        KF -> DWORD
+        _ -> BYTE
+      OpTablePos {} -> DWORD
+
+-- | Write a scalar of the request into an operand.
+writeScalar :: Machine -> (Operand, Scalar) -> Either Text Machine
+writeScalar m (op, s) = do
+  (l, t) <- operandPlace op
+  case (op, s) of
+    (OpBit {}, SBool b) -> Right (writeLocatedVar l t (VBool b) m)
+    (OpBit {}, _) -> Left ("the bit operand " <> renderOperand op <> " takes true or false")
+    _ -> (\w -> writeLocatedVar l t (VInt DWORD (toInteger w)) m) <$> scalarToCellBits op s
+
+-- | An operand's value as the MasterTool engine reports it: a bit as
+-- true/false, %F as a binary32, the others as the signed reading.
+readScalar :: Program -> Machine -> Operand -> Either Text Scalar
+readScalar prog m op = do
+  (l, t) <- operandPlace op
+  pure $ case (op, readLocatedVar prog l t m) of
+    (OpBit {}, VBool b) -> SBool b
+    (OpSimple KF _, VInt _ n) -> scalarFromFloat (realFromBits (fromInteger n :: Word32))
+    (OpSimple k _, VInt _ n) -> let w = if k == KM then 16 else if k == KI then 32 else 8 :: Int in SNumber (fromInteger (if n >= 2 ^ (w - 1) then n - 2 ^ w else n))
+    (_, v) -> SBool (v == VBool True)
+
+-- | The MasterTool code of a runtime error of the core (corpus-format §4.3
+-- kinds; MT-ERR-2015, MT-ERR-2020, MT-ERR-2030).
+masterToolCode :: Text -> Maybe Int
+masterToolCode = \case
+  "index-out-of-range" -> Just 2015
+  "division-by-zero" -> Just 2020
+  "watchdog" -> Just 2030
+  _ -> Nothing
+
+-- | The core's answer to a MasterTool request, or why the slice declines it.
+coreAnswer :: Policies -> Request -> Either Text Answer
+coreAnswer pol rq = do
+  unless (T.toUpper (rqModule rq) == "P") (Left "an F module")
+  when (isJust (prChf plc)) (Left "CHF parameters")
+  unless (null (obsVars (rqObserve rq))) (Left "named variables observed")
+  diag <- case parseOperand (prDiagnostics plc) of
+    Right (OpSimple KM a) -> Right a
+    _ -> Left "the diagnostic band is not at a %M operand"
+  let cfg = declareToConfig diag (prDeclare plc)
+  initial <- operandList (prInit plc)
+  calls <- forM (rqCalls rq) $ \c -> do
+    when (isJust (callReset c)) (Left "a reset of the controller")
+    (,) (callInputs c) <$> operandList (callSet c)
+  observed <- traverse (\t -> (t,) <$> parseOperand t) (obsOperands (rqObserve rq))
+  when (null calls) (Left "no calls")
+  case checkedOnCore pol rq of
+    Left e -> Right (AnswerRejected (Just (posLine (vePos e))) (Just (veKind e)) (veMessage e))
+    Right (unit, prog) -> do
+      when (mayNestTooDeep unit) (Left "16 functions or more: the nesting limit (2050) is not on the core yet")
+      -- MT-MAP-8: a mapped operand the configuration does not declare is a
+      -- runtime error (2000-2002) before the first statement
+      forM_ (mapped unit prog) $ \(l, _, _) -> case parseOperand (locText l) of
+        Right op | cellDeclared cfg (operandCell op) -> Right ()
+        _ -> Left "a mapped operand the configuration does not declare (errors 2000-2002)"
+      m0 <- foldlM writeScalar (initialMachine prog) {mMemory = M.empty} initial
+      let band = [OpSimple KM (diag + i) | i <- [0 .. 4]]
+          bandValues = \case
+            Nothing -> [-32768, 0, 0, 0, 0] -- MT-DIAG-4
+            Just (line, code) -> [line, code, 0, 0, 0] -- MT-DIAG-2
+          writeBand m e = foldlM writeScalar m (zip band (map (SNumber . fromIntegral) (bandValues e)))
+          call (m, _) ((input1, _, _), sets) = do
+            m1 <- foldlM writeScalar m sets
+            if not input1
+              then Right (m1, ((False, False, False), Nothing)) -- MT-SIG-3
+              else do
+                -- MT-MAP-1: a fresh data area at every call, over the operands;
+                -- MT-MAP-15: initialisers of mapped variables write their operands
+                let initialised = foldl (\acc (l, t, v) -> maybe acc (\x -> writeLocatedVar l t x acc) v) m1 (mapped unit prog)
+                    (m2, initStop) = initialize pol prog Nothing (initialMachine prog) {mMemory = mMemory initialised}
+                when (isJust initStop) (Left "an error while initialising")
+                let (m3, stop) = runCycle pol prog 0 m2
+                err <- case stop of
+                  Nothing -> Right Nothing
+                  Just (StopFault p f) -> case masterToolCode (faultKind f) of
+                    -- MT-EXEC-7: the two evaluators count the step budget differently
+                    Just 2030 -> Left "the step budget (2030): counted otherwise than by the MasterTool engine"
+                    Just code -> Right (Just (posLine p, code))
+                    Nothing -> Left ("the runtime error " <> faultKind f <> ", which has no MasterTool code")
+                m4 <- writeBand m3 err
+                -- MT-SIG-4, MT-SIG-5
+                Right (m4, ((not (isJust err), False, False), err))
+      (final, (outs, err)) <- foldlM call (m0, ((False, False, False), Nothing)) calls
+      operands <- M.fromList <$> traverse (\(t, op) -> (t,) <$> readScalar prog final op) observed
+      let (o1, o2, o3) = outs
+          report = fmap (\(line, code) -> ErrorReport (Just code) Nothing (Just line) (Just (0, 0, 0))) err
+      Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) (Observation operands M.empty (M.fromList [("OUTPUT1", o1), ("OUTPUT2", o2), ("OUTPUT3", o3)]) report))
+  where
+    plc = rqPlc rq
+    operandList mp = sortOn fst <$> traverse (\(t, s) -> (,s) <$> parseOperand t) (M.toList mp)
+    foldlM f z = foldl (\acc x -> acc >>= \a -> f a x) (Right z)
+
+-- | What a comparison finds.
+data Comparison
+  = Agree
+  | Disagree Text -- ^ both answer, differently
+  | Declined Text -- ^ outside the slice, with the reason
+  deriving (Eq, Show)
+
+-- | The request with every operand the program maps and the diagnostic
+-- band added to what is observed, so that the comparison sees more than the
+-- case's expectation lists.
+widenObservation :: Policies -> Request -> Request
+widenObservation pol rq = case checkedOnCore pol rq of
+  Left _ -> rq
+  Right (unit, prog) ->
+    let extra = [locText l | (l, _, _) <- mapped unit prog] ++ either (const []) (\case OpSimple KM a -> [renderOperand (OpSimple KM (a + i)) | i <- [0 .. 4]]; _ -> []) (parseOperand (prDiagnostics (rqPlc rq)))
+        ob = rqObserve rq
+     in rq {rqObserve = ob {obsOperands = nub (obsOperands ob ++ extra)}}
+
+-- | Run a MasterTool request through the MasterTool engine and the core.
+compareOnCore :: Policies -> Request -> Comparison
+compareOnCore pol rq0 =
+  let rq = widenObservation pol rq0
+   in case coreAnswer pol rq of
+        Left why -> Declined why
+        Right core -> judge (referenceEngine [] rq) core
+  where
+    judge ref core = case (ref, core) of
+      (AnswerUnsupported w, _) -> Declined ("the MasterTool engine: " <> w)
+      (AnswerRejected l k _, AnswerRejected l' k' _)
+        | l == l' && k == k' -> Agree
+        | otherwise -> Declined ("both reject, MasterTool " <> shown (l, k) <> ", the core " <> shown (l', k'))
+      (AnswerRejected _ k _, AnswerRun {}) -> Declined ("MasterTool rejects it (" <> maybe "?" id k <> "), a verification rule the core does not have yet")
+      (AnswerRun {}, AnswerRejected _ k _) -> Declined ("the core rejects it (" <> maybe "?" id k <> ")")
+      (AnswerRun v o, AnswerRun v' o')
+        | v == v' && o == o' -> Agree
+        | otherwise -> Disagree ("MasterTool " <> shown (v, o) <> "; the core " <> shown (v', o'))
+      (_, AnswerUnsupported w) -> Declined w
+    shown :: Show x => x -> Text
+    shown = T.pack . show
