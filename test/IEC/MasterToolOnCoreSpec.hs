@@ -18,7 +18,7 @@ import Test.Hspec
 
 -- | What the slice covers today; raise it when the slice grows.
 acceptedAtLeast :: Int
-acceptedAtLeast = 558
+acceptedAtLeast = 568
 
 -- | The cases on which the two disagree, each with the rule that makes the
 -- difference: a rule of MasterTool the core does not have yet, to be moved
@@ -33,6 +33,7 @@ knownDisagreements =
 reasonGroup :: T.Text -> T.Text
 reasonGroup r
   | "both reject" `T.isPrefixOf` r = "both reject, at other lines or with other kinds"
+  | "the core rejects it" `T.isPrefixOf` r = fst (T.breakOn "): " r) <> ")"
   | otherwise = r
 
 spec :: Spec

@@ -34,20 +34,28 @@ import Stref.IEC.Checked (PouDef (..), Program (..), VarInfo (..), lookupPou)
 import Stref.IEC.Dialect.MasterTool (operandLocation)
 import Stref.IEC.Eval (Machine (..), Stop (..), initialMachine, initialize, readLocatedVar, runCycle, writeLocatedVar)
 import Stref.IEC.Parser (parseUnit)
-import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Unit (..), VarBlock (..), VarDecl (..))
+import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Section (..), TypeSpec (..), Unit (..), VarBlock (..), VarDecl (..))
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.IEC.Values (Fault (..), Value (..))
 import Stref.Operands (Operand (..), SimpleKind (..), cellDeclared, operandCell, parseOperand, renderOperand)
 import Stref.Policy (Policies (..))
-import Stref.Syntax (Pos (..))
+import Stref.Syntax (Pos (..), noPos)
 import Stref.Values (realFromBits)
 import Stref.Verification (VerificationError (..))
 
 -- | The unit and its checked program, or the core's rejection.
 checkedOnCore :: Policies -> Request -> Either VerificationError (Unit, Program)
 checkedOnCore pol rq = do
-  u <- parseUnit pol (T.unpack (rqCase rq)) (rqSource rq)
+  u <- withSignals <$> parseUnit pol (T.unpack (rqCase rq)) (rqSource rq)
   (u,) <$> checkUnit pol ProgramsOfConfiguration u
+
+-- | MT-SIG-1: the module's signals INPUT1..3 and OUTPUT1..3, BOOL variables
+-- the controller declares for every module.
+signals :: [Text]
+signals = ["INPUT1", "INPUT2", "INPUT3", "OUTPUT1", "OUTPUT2", "OUTPUT3"]
+
+withSignals :: Unit -> Unit
+withSignals (Unit decls) = Unit (DGlobals (VarBlock noPos SecGlobal False False [VarDecl noPos [(noPos, n)] Nothing (TSName noPos "BOOL") Nothing Nothing [] [] | n <- signals] False []) : decls)
 
 -- | The mapped variables of the program (globals and the program's own),
 -- each with its initial value when its declaration has an initialiser.
@@ -138,7 +146,7 @@ coreAnswer pol rq = do
             Nothing -> [-32768, 0, 0, 0, 0] -- MT-DIAG-4
             Just (line, code) -> [line, code, 0, 0, 0] -- MT-DIAG-2
           writeBand m e = foldlM writeScalar m (zip band (map (SNumber . fromIntegral) (bandValues e)))
-          call (m, _) ((input1, _, _), sets) = do
+          call (m, _) ((input1, input2, input3), sets) = do
             m1 <- foldlM writeScalar m sets
             if not input1
               then Right (m1, ((False, False, False), Nothing)) -- MT-SIG-3
@@ -148,7 +156,11 @@ coreAnswer pol rq = do
                 let initialised = foldl (\acc (l, t, v) -> maybe acc (\x -> writeLocatedVar l t x acc) v) m1 (mapped unit prog)
                     (m2, initStop) = initialize pol prog Nothing (initialMachine prog) {mMemory = mMemory initialised}
                 when (isJust initStop) (Left "an error while initialising")
-                let (m3, stop) = runCycle pol prog 0 m2
+                -- MT-SIG-4: the signals at the start of the call
+                let (i1, i2, i3) = (input1, input2, input3)
+                    start = m2 {mGlobals = foldr (uncurry M.insert) (mGlobals m2) (zip signals (map VBool [i1, i2, i3, True, False, False]))}
+                    (m3, stop) = runCycle pol prog 0 start
+                    output k = M.lookup k (mGlobals m3) == Just (VBool True)
                 err <- case stop of
                   Nothing -> Right Nothing
                   Just (StopFault p f) -> case masterToolCode (faultKind f) of
@@ -158,7 +170,8 @@ coreAnswer pol rq = do
                     Nothing -> Left ("the runtime error " <> faultKind f <> ", which has no MasterTool code")
                 m4 <- writeBand m3 err
                 -- MT-SIG-4, MT-SIG-5
-                Right (m4, ((not (isJust err), False, False), err))
+                -- MT-SIG-5: a runtime error clears OUTPUT1
+                Right (m4, ((not (isJust err) && output "OUTPUT1", output "OUTPUT2", output "OUTPUT3"), err))
       (final, (outs, err)) <- foldlM call (m0, ((False, False, False), Nothing)) calls
       operands <- M.fromList <$> traverse (\(t, op) -> (t,) <$> readScalar prog final op) observed
       let (o1, o2, o3) = outs
@@ -201,7 +214,7 @@ compareOnCore pol rq0 =
         | l == l' && k == k' -> Agree
         | otherwise -> Declined ("both reject, MasterTool " <> shown (l, k) <> ", the core " <> shown (l', k'))
       (AnswerRejected _ k _, AnswerRun {}) -> Declined ("MasterTool rejects it (" <> maybe "?" id k <> "), a verification rule the core does not have yet")
-      (AnswerRun {}, AnswerRejected _ k _) -> Declined ("the core rejects it (" <> maybe "?" id k <> ")")
+      (AnswerRun {}, AnswerRejected _ k m) -> Declined ("the core rejects it (" <> maybe "?" id k <> "): " <> m)
       (AnswerRun v o, AnswerRun v' o')
         | v == v' && o == o' -> Agree
         | otherwise -> Disagree ("MasterTool " <> shown (v, o) <> "; the core " <> shown (v', o'))
