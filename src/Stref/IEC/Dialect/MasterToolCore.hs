@@ -157,8 +157,7 @@ coreAnswer pol rq = do
                     (m2, initStop) = initialize pol prog Nothing (initialMachine prog) {mMemory = mMemory initialised}
                 when (isJust initStop) (Left "an error while initialising")
                 -- MT-SIG-4: the signals at the start of the call
-                let (i1, i2, i3) = (input1, input2, input3)
-                    start = m2 {mGlobals = foldr (uncurry M.insert) (mGlobals m2) (zip signals (map VBool [i1, i2, i3, True, False, False]))}
+                let start = m2 {mGlobals = foldr (uncurry M.insert) (mGlobals m2) (zip signals (map VBool [input1, input2, input3, True, False, False]))}
                     (m3, stop) = runCycle pol prog 0 start
                     output k = M.lookup k (mGlobals m3) == Just (VBool True)
                 err <- case stop of
@@ -169,7 +168,6 @@ coreAnswer pol rq = do
                     Just code -> Right (Just (posLine p, code))
                     Nothing -> Left ("the runtime error " <> faultKind f <> ", which has no MasterTool code")
                 m4 <- writeBand m3 err
-                -- MT-SIG-4, MT-SIG-5
                 -- MT-SIG-5: a runtime error clears OUTPUT1
                 Right (m4, ((not (isJust err) && output "OUTPUT1", output "OUTPUT2", output "OUTPUT3"), err))
       (final, (outs, err)) <- foldlM call (m0, ((False, False, False), Nothing)) calls
