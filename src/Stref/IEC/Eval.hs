@@ -23,6 +23,8 @@ module Stref.IEC.Eval
   , traceOf
     -- * Shared with the fast evaluator ("Stref.IEC.Fast")
   , maxCallDepth
+  , MemoryMap (..)
+  , memoryMap
   , watchdogFault
   , fitWhy
   , indexWhy

@@ -25,34 +25,47 @@
 -- construction; test/IEC/FastSpec.hs checks that they do, on the corpus and
 -- on generated programs.
 --
--- The slice: elementary types, strings and enumerations, arrays and
--- structures of them, globals and program instance variables, standard FB
--- instances, user FUNCTION_BLOCKs and FUNCTIONs without VAR_IN_OUT,
--- inheritance, methods or edge inputs; assignment, FB and function calls
--- (with @=>@ outputs), IF, CASE, FOR, WHILE, REPEAT, EXIT, RETURN,
--- CONTINUE inside a loop. Not in it: located variables and VAR_CONFIG,
--- pointers, references to characters and bits, implicit check functions,
+-- The slice: elementary types, strings and enumerations, pointers, arrays
+-- and structures of them, globals and program instance variables, standard
+-- FB instances, user FUNCTION_BLOCKs (with EXTENDS) and FUNCTIONs without
+-- VAR_IN_OUT or edge inputs, methods (virtual and SUPER^ calls), THIS;
+-- assignment, FB, function and method calls (with @=>@ outputs), IF, CASE,
+-- FOR, WHILE, REPEAT, EXIT, RETURN, CONTINUE inside a loop, ADR and @^@ on
+-- the globals and program instances. Not in it: located variables and
+-- VAR_CONFIG, pointers into a function's frame or a direct-address area,
+-- references to characters and bits, implicit check functions, actions,
 -- CODESYS's MUX and SEL (which evaluate only the selected input), chained
--- assignments, jumps, program calls. A machine of an unexpected shape makes
--- the cycle run in the readable evaluator.
+-- assignments, jumps, program calls. A machine of an unexpected shape, or
+-- a pointer the slice does not follow, makes the cycle run in the readable
+-- evaluator.
+--
+-- Pointers: an address is the readable evaluator's (the memory model of
+-- "Stref.IEC.Memory"): ADR finds the path of its slot from the root and
+-- asks 'offsetOf'; @^@ asks 'locate' for the path at the address, as the
+-- readable @variableAt@ does, and follows it in the slots.
 module Stref.IEC.Fast
   ( fastCycle
+  , fastCycleOnly
   ) where
 
 import Control.Monad (ap, forM, forM_, join, liftM, when)
 import Control.Monad.ST (ST, runST)
 import Data.Foldable (foldlM)
 import Data.List (find)
+import qualified Data.IntMap.Lazy as IM
+import Data.Maybe (fromMaybe, listToMaybe)
 import qualified Data.Map as LM
 import qualified Data.Map.Strict as M
 import qualified Data.Sequence as Seq
 import Data.STRef
 import Data.Text (Text)
+import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Eval
+import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (BinOp (..), Pos (..), PouKind (..), Section (..))
@@ -106,6 +119,7 @@ shapeOf prog = \case
   TEnum _ _ -> Just Leaf
   TSubrange {} -> Just Leaf
   TNumEnum {} -> Just Leaf
+  TPointer _ -> Just Leaf -- an address, a DWORD value
   TArray bs t -> do
     e <- shapeOf prog t
     Just (Array bs e (size e) (fromInteger (product [hi - lo + 1 | (lo, hi) <- bs])))
@@ -121,8 +135,10 @@ shapeOf prog = \case
 -- for what the slice leaves out.
 pouShape :: Program -> PouDef -> Maybe Shape
 pouShape prog d = do
+  -- a derived FB's variables start with its base's, so that the base's
+  -- code finds them at the same offsets in an instance of either
   let vars = pdVars d
-  when (pdBase d /= Nothing || any (\v -> viSection v == SecInOut || viEdge v /= Nothing) vars) Nothing
+  when (any (\v -> viSection v == SecInOut || viEdge v /= Nothing) vars) Nothing
   record (Just (pdName d)) <$> mapM (\v -> (viKey v,) <$> shapeOf prog (viType v)) vars
 
 -- | Put a value into the slots; False when its shape is not the expected one.
@@ -167,6 +183,9 @@ data Env s = Env
   { eStore :: !(MV.MVector s Value) -- ^ globals and program instances
   , eSelf :: !(MV.MVector s Value) -- ^ the slots of the running POU's instance or frame
   , eBase :: !Int -- ^ where in them its variables start
+  , eThis :: !(MV.MVector s Value) -- ^ the instance THIS names (the readable cxThis): its slots,
+  , eThisBase :: !Int -- ^ where it starts,
+  , eThisType :: !Text -- ^ and its type's key, which a virtual call dispatches on
   , eDepth :: !Int -- ^ the nesting of calls (the readable evaluator's cxDepth)
   , eSteps :: !(MU.MVector s Int) -- ^ the watchdog's count (mSteps)
   , eFrames :: !(STRef s [(Int, Shape, Value, MV.MVector s Value)])
@@ -209,7 +228,9 @@ abort :: Abort -> M s a
 abort a = M (\_ -> pure (Left a))
 
 orFault :: Pos -> Either Fault a -> M s a
-orFault p = either (abort . Faulted p) pure
+orFault p = \case
+  Right x -> x `seq` pure x
+  Left f -> abort (Faulted p f)
 
 -- | The readable evaluator's @tick@: one step of the watchdog's budget
 -- (TC-ERR-1), at the same places.
@@ -229,7 +250,9 @@ deeper p = do
 -- | A store into a target of a declared type (the readable @fitValue@
 -- without check functions, which the slice leaves out).
 fit :: Policies -> Pos -> Type -> Value -> M s Value
-fit pol p t v = orFault p (fst (fitWhy pol t v))
+fit pol p t v = case fst (fitWhy pol t v) of
+  Right x -> x `seq` pure x
+  Left f -> abort (Faulted p f)
 
 ------------------------------------------------------------------------------
 -- Places
@@ -251,10 +274,10 @@ readPlace sh = \case
 writePlace :: Shape -> Place s -> Value -> M s ()
 writePlace sh pl x = case pl of
   Slot v o -> case sh of
-    Leaf -> st (MV.write v o x)
+    Leaf -> st (MV.write v o $! x)
     _ -> st (load v o sh x) >>= \ok -> if ok then pure () else abort Bail
   InFB v o k -> st $ MV.read v o >>= \case
-    VInstance n m -> MV.write v o (VInstance n (M.insert k x m))
+    VInstance n m -> MV.write v o $! VInstance n (M.insert k x m)
     _ -> pure ()
 
 ------------------------------------------------------------------------------
@@ -265,9 +288,97 @@ data Cx = Cx
   , cProg :: Program
   , cGlobals :: M.Map Text (Int, Shape)
   , cSelf :: M.Map Text (Int, Shape) -- ^ the running POU's variables
+  , cThis :: Maybe Shape -- ^ the instance THIS names, as this code sees it (a function has none)
   , cLoop :: Bool -- ^ inside a loop (CONTINUE is only translated there)
   , cPous :: LM.Map Text (Maybe Code) -- ^ every user POU's translated body, built when first used
+  , cMethods :: LM.Map (Text, Text) (Maybe Code)
+  -- ^ every method's, by the key of the type that declares it and its own
+  , cRoots :: [(Root, Type, Integer, Maybe (Int, Shape))]
+  -- ^ the roots of memory that stay in place (the readable evaluator's
+  -- MemoryMap), each with its slots when the store holds it
+  , cLayout :: Layout
+  , cAddresses :: V.Vector (Maybe Integer)
+  -- ^ 'slotAddress' of each slot of the store, computed when first asked
+  -- and then remembered for the run
   }
+
+-- | The place a path of steps from a variable's start reaches in its
+-- slots, and its shape there.
+descend :: Shape -> [Step] -> Maybe (Int, Shape)
+descend sh = \case
+  [] -> Just (0, sh)
+  StepField k : rest | Record _ fs _ <- sh -> do
+    (o, s) <- M.lookup k fs
+    (o', s') <- descend s rest
+    Just (o + o', s')
+  StepIndex is : rest
+    | Array bs e esz _ <- sh
+    , length is == length bs
+    , and [i >= lo && i <= hi | ((lo, hi), i) <- zip bs is] -> do
+        let linear = foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1) + (i - lo)) 0 (zip bs is)
+        (o', s') <- descend e rest
+        Just (fromInteger linear * esz + o', s')
+  _ -> Nothing
+
+-- | The path from a variable's start to its slot o: to the elementary
+-- value or standard FB instance there, which starts where every structure
+-- and array around it that starts at o starts.
+stepsTo :: Shape -> Int -> Maybe [Step]
+stepsTo sh o = case sh of
+  Record _ fs _ -> listToMaybe [StepField k : rest | (k, (fo, s)) <- M.toList fs, o >= fo, o < fo + size s, Just rest <- [stepsTo s (o - fo)]]
+  Array bs e esz n
+    | esz > 0 && o >= 0 && o < esz * n ->
+        let (i, r) = o `divMod` esz
+         in (StepIndex (unlinear bs (toInteger i)) :) <$> stepsTo e r
+  _ | o == 0 -> Just []
+  _ -> Nothing
+  where
+    -- TC-TYPE-43: the rightmost index varies fastest
+    unlinear bs i = snd (foldr (\(lo, hi) (rest, acc) -> let n = hi - lo + 1 in (rest `div` n, lo + rest `mod` n : acc)) (i, []) bs)
+
+-- | ADR of the store's slot o (NX-TYPE-75): the readable @addressOf@ of its
+-- path; Nothing outside the roots the store holds.
+slotAddress :: Cx -> Int -> Maybe Integer
+slotAddress cx o = do
+  (_, t, base, Just (start, sh)) <- find (\(_, _, _, slots) -> maybe False (\(start, sh) -> o >= start && o < start + size sh) slots) (cRoots cx)
+  steps <- stepsTo sh (o - start)
+  (off, _) <- offsetOf (cLayout cx) t steps
+  Just (base + off)
+
+-- | The store's slot of the variable of a type at an address (NX-TYPE-75),
+-- found as the readable @variableAt@ finds it, and the type of the
+-- variable there; Nothing where the store holds no such variable.
+slotAt :: Cx -> Integer -> Type -> Maybe (Int, Type)
+slotAt cx a t = do
+  let ly = cLayout cx
+  -- a direct-address area or a call's frame: not the store's
+  Nothing <- Just (areaAt a)
+  (_, rt, base, slots) <- find (\(_, rt, base, _) -> a >= base && a < base + max 1 (sizeInBytes ly rt)) (cRoots cx)
+  (start, sh) <- slots
+  steps <- locate ly rt (a - base) t
+  (o, _) <- descend sh steps
+  (_, found) <- offsetOf ly rt steps
+  -- a pointer to an FB reaches any FB there: the slots are read on the
+  -- pointer type's layout only when the instance is of that type or
+  -- derived from it
+  case (found, t) of
+    (TFB n, TFB m) | not (derivedFrom (cProg cx) n m) -> Nothing
+    _ -> Just (start + o, found)
+
+-- | 'slotAt' for one type, remembered for the addresses of the store's
+-- slots (where every variable starts): a pointer's target is found again at
+-- each @^@.
+slotAtOf :: Cx -> Type -> Integer -> Maybe (Int, Type)
+slotAtOf cx t = \a -> if a >= 0 && a <= toInteger (maxBound :: Int) then fromMaybe (slotAt cx a t) (IM.lookup (fromInteger a) known) else slotAt cx a t
+  where
+    known = IM.fromList [(fromInteger a, slotAt cx a t) | Just a <- V.toList (cAddresses cx)]
+
+-- | A function block type is the other or derived from it (NX-POU-43).
+derivedFrom :: Program -> Text -> Text -> Bool
+derivedFrom prog n m = go (16 :: Int) (key n)
+  where
+    go 0 _ = False
+    go i k = k == key m || maybe False (go (i - 1)) (lookupPou prog k >>= pdBase)
 
 -- | A POU's body: VAR_TEMP reset (TC-VAR-8), then its statements.
 data Code = Code Shape Body'
@@ -278,8 +389,20 @@ newtype Ex = Ex (forall s. M s Value)
 
 newtype St = St (forall s. M s Flow)
 
--- | What an FB call runs on the instance at these slots.
-newtype Callee = Callee (forall s. MV.MVector s Value -> Int -> M s ())
+-- | What an FB call runs on the instance at these slots, of this type.
+newtype Callee = Callee (forall s. MV.MVector s Value -> Int -> Text -> M s ())
+
+-- | An instance a call runs on, when the call runs: where it lies and its
+-- type's key (the dynamic type: a virtual call dispatches on it).
+newtype Recv = Recv (forall s. M s (Place s, Text))
+
+-- | A method as one type runs it: on the instance, with the inputs' values.
+newtype Invoke = Invoke (forall s. Place s -> Text -> [Value] -> M s Value)
+
+-- | A call of a POU on a frame of its own (a function, a method): the
+-- inputs' values in, the result out; the environment's change for the body
+-- (THIS of a method).
+newtype Framed = Framed (forall s. (Env s -> Env s) -> [Value] -> M s Value)
 
 -- | How a statement ended: on to the next, or EXIT, RETURN, CONTINUE.
 data Flow = Next | Exited | Returned | Continued
@@ -287,6 +410,14 @@ data Flow = Next | Exited | Returned | Continued
 -- | The readable evaluator's @runCycle@ for programs of the slice.
 fastCycle :: Policies -> Program -> Maybe (Integer -> Machine -> (Machine, Maybe Stop))
 fastCycle pol prog = do
+  fast <- fastCycleOnly pol prog
+  pure $ \clock m0 -> fromMaybe (runCycle pol prog clock m0) (fast clock m0)
+
+-- | The fast cycle alone: Nothing for a cycle it leaves to the readable
+-- evaluator (a machine of an unexpected shape, a pointer it does not
+-- follow), so that the tests can tell which cycles it ran.
+fastCycleOnly :: Policies -> Program -> Maybe (Integer -> Machine -> Maybe (Machine, Maybe Stop))
+fastCycleOnly pol prog = do
   -- outside the slice: implicit checks, VAR_CONFIG, periodic tasks (runCycle's schedule)
   when (not (null (prChecks prog)) || not (null (prVarConfig prog)) || not (M.null (prPeriods prog))) Nothing
   gshapes <- forM [v | v <- prGlobals prog, viAt v == Nothing] $ \v -> (viKey v,) <$> shapeOf prog (viType v)
@@ -297,12 +428,20 @@ fastCycle pol prog = do
       globals = place 0 gshapes
       progs = place (sum (map (size . snd) gshapes)) pshapes
       total = sum (map (size . snd) (gshapes ++ pshapes))
-      cx = Cx pol prog (M.fromList globals) M.empty False pous
+      memory = memoryMap prog
+      stored r = case r of
+        RootGlobal k -> lookup k globals
+        RootProgram k -> lookup k progs
+        _ -> Nothing
+      cx = Cx pol prog (M.fromList globals) M.empty Nothing False pous methods [(r, t, a, stored r) | (r, t, a) <- mmRoots memory] (mmLayout memory) addresses
+      addresses = V.generate total (slotAddress cx)
       pous = LM.fromList [(k, translatePou cx d) | (k, d) <- M.toList (prPous prog), Statements _ <- [pdBody d]]
+      -- a method is translated on the variables of the type that declares it
+      methods = LM.fromList [((k, mk), translateMethod cx d md) | (k, d) <- M.toList (prPous prog), (mk, md) <- M.toList (pdMethods d)]
   runs <- forM instances $ \(k, d) -> do
     Code _ (Body' body) <- join (LM.lookup (key (pdName d)) pous)
     (base, _) <- lookup k progs
-    Just (Body' (within (\e -> e {eSelf = eStore e, eBase = base}) body))
+    Just (Body' (within (\e -> e {eSelf = eStore e, eBase = base, eThis = eStore e, eThisBase = base, eThisType = key (pdName d)}) body))
   let cycleWith clock m0 = runST $ do
         store <- MV.new total
         ok <- foldlM (\ok (k, (o, s)) -> if ok then maybe (pure False) (load store o s) (M.lookup k (mGlobals m0)) else pure False) True globals
@@ -312,7 +451,7 @@ fastCycle pol prog = do
           else do
             steps <- MU.replicate 1 0
             frames <- newSTRef []
-            let e = Env store store 0 0 steps frames clock
+            let e = Env store store 0 store 0 "" 0 steps frames clock
             r <- unM (mapM_ (\(Body' b) -> b) runs) e
             let restore pairs src = foldlM (\m (k, (o, s)) -> maybe (pure m) (\old -> (\v -> M.insert k v m) <$> rebuild store o s old) (M.lookup k m)) src pairs
             gs <- restore globals (mGlobals m0)
@@ -326,12 +465,27 @@ fastCycle pol prog = do
                 open <- forM fs $ \(d, s, initial, v) -> (d,) <$> rebuild v 0 s initial
                 pure (Just (m1 {mFrames = M.fromList open}, Just (StopFault p f)))
               Right () -> pure (Just (m1, Nothing))
+  -- a traced run is the readable evaluator's
   pure $ \clock m0 -> case mTrace m0 of
-    Nothing | Just r <- cycleWith clock m0 -> r
-    _ -> runCycle pol prog clock m0
+    Nothing -> cycleWith clock m0
+    Just _ -> Nothing
 
 translatePou :: Cx -> PouDef -> Maybe Code
 translatePou cx d = do
+  sh <- pouShape (cProg cx) d
+  -- THIS: an FB's or a program's own instance; a function has none
+  translateOn cx (if pdKind d == KFunction then Nothing else Just sh) d
+
+-- | A method of the type d declares (NX-POU-27), on d's variables: an
+-- instance of a derived type has them at the same offsets.
+translateMethod :: Cx -> PouDef -> PouDef -> Maybe Code
+translateMethod cx d md = do
+  when (pdKind md /= KMethod) Nothing
+  this <- pouShape (cProg cx) d
+  translateOn cx (Just this) md
+
+translateOn :: Cx -> Maybe Shape -> PouDef -> Maybe Code
+translateOn cx this d = do
   sh <- pouShape (cProg cx) d
   fields <- case sh of
     Record _ fs _ -> Just fs
@@ -339,7 +493,7 @@ translatePou cx d = do
   ss <- case pdBody d of
     Statements ss -> Just ss
     Native _ -> Nothing
-  let cx' = cx {cSelf = fields, cLoop = False}
+  let cx' = cx {cSelf = fields, cThis = this, cLoop = False}
   St body <- block cx' ss
   temps <- forM [v | v <- pdVars d, viSection v == SecTemp] $ \v -> (\(o, s) -> (o, s, viInit v)) <$> M.lookup (viKey v) fields
   pure $ Code sh $ Body' $ do
@@ -496,7 +650,7 @@ callFB :: Cx -> Pos -> FBCall -> Maybe St
 callFB cx p c = do
   d <- lookupPou (cProg cx) (fcType c)
   when (not (null (fcInOuts c))) Nothing
-  (sh, Ref inst) <- ref cx p (fcInstance c)
+  (sh, Recv inst) <- receiver cx p (fcInstance c)
   ins <- forM (fcInputs c) $ \(k, e) -> do
     Ex v <- expr cx e
     (o, s) <- member sh k
@@ -511,22 +665,22 @@ callFB cx p c = do
   let temps = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
   Callee run <- case (sh, pdBody d) of
     -- the standard FB's meaning on the instance's variables
-    (Opaque, Native f) -> Just $ Callee $ \vec o -> do
+    (Opaque, Native f) -> Just $ Callee $ \vec o _ -> do
       clock <- eClock <$> env
       st $ MV.read vec o >>= \case
-        VInstance n vars -> MV.write vec o (VInstance n (f pol clock (M.union temps vars)))
+        VInstance n vars -> MV.write vec o $! VInstance n (f pol clock (M.union temps vars))
         _ -> pure ()
     (Record {}, Statements _) -> do
       Code _ (Body' body) <- join (LM.lookup (key (pdName d)) (cPous cx))
-      Just (Callee (\vec base -> () <$ within (\e -> e {eSelf = vec, eBase = base, eDepth = eDepth e + 1}) body))
+      Just (Callee (\vec base t -> () <$ within (\e -> e {eSelf = vec, eBase = base, eThis = vec, eThisBase = base, eThisType = t, eDepth = eDepth e + 1}) body))
     _ -> Nothing
   Just $ St $ do
     vs <- mapM (\(_, _, _, Ex v) -> v) ins
-    pl <- inst
+    (pl, dyn) <- inst
     forM_ (zip ins vs) $ \((t, o, s, _), v) -> fit pol p t v >>= writePlace s (at pl o)
     deeper p
     case pl of
-      Slot vec base -> run vec base
+      Slot vec base -> run vec base dyn
       InFB {} -> abort Bail
     forM_ outs $ \(o, Ref target, t) -> do
       v <- readPlace Leaf (at pl o)
@@ -554,20 +708,26 @@ at pl m = case (pl, m) of
   (InFB v o k, _) -> InFB v o k
 
 -- | A function call (TC-POU-5, TC-POU-6), as the readable @callFunction@:
--- the inputs evaluated, a fresh frame of initial values (which a runtime
--- error inside leaves in the machine's frames), the inputs stored, the
--- body, the @=>@ outputs copied, the result read.
+-- the inputs evaluated, then the call on a frame of its own.
 callFunction :: Cx -> Pos -> Text -> [(Text, CExpr)] -> [(Text, CRef, Type)] -> Maybe Ex
 callFunction cx p f ins outs = do
   d <- lookupPou (cProg cx) f
   when (pdKind d /= KFunction) Nothing
   Code sh (Body' body) <- join (LM.lookup (key (pdName d)) (cPous cx))
+  exs <- mapM (expr cx . snd) ins
+  Framed run <- framed cx p d sh (Body' body) (map (\(k, e) -> (k, ceType e)) ins) outs
+  Just (Ex (mapM (\(Ex v) -> v) exs >>= run id))
+
+-- | A call on a fresh frame of initial values (which a runtime error inside
+-- leaves in the machine's frames), as the readable @callFunctionWith@: the
+-- inputs stored, the body, the @=>@ outputs copied, the result read.
+framed :: Cx -> Pos -> PouDef -> Shape -> Body' -> [(Text, Type)] -> [(Text, CRef, Type)] -> Maybe Framed
+framed cx p d sh (Body' body) ins outs = do
   let initial = VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])
-  ins' <- forM ins $ \(k, e) -> do
-    Ex v <- expr cx e
+  ins' <- forM ins $ \(k, from) -> do
     (o, s) <- member sh k
-    writable s (paramType d k) (ceType e)
-    Just (paramType d k, o, s, Ex v)
+    writable s (paramType d k) from
+    Just (paramType d k, o, s)
   outs' <- forM outs $ \(k, r, t) -> do
     (o, s) <- member sh k
     (ts, Ref target) <- ref cx p r
@@ -575,19 +735,21 @@ callFunction cx p f ins outs = do
     Just (o, Ref target, t)
   (result, rs) <- member sh (key (pdName d))
   when (not (isLeaf rs)) Nothing
+  -- the initial frame laid out once; each call starts from a copy
+  slots <- runST $ do
+    v <- MV.new (size sh)
+    ok <- load v 0 sh initial
+    if ok then Just <$> V.freeze v else pure Nothing
   let pol = cPol cx
-  Just $ Ex $ do
-    vs <- mapM (\(_, _, _, Ex v) -> v) ins'
+  Just $ Framed $ \this vs -> do
     deeper p
     e <- env
     let depth = eDepth e + 1
-    vec <- st (MV.new (size sh))
-    ok <- st (load vec 0 sh initial)
-    when (not ok) (abort Bail)
+    vec <- st (V.thaw slots)
     st (modifySTRef' (eFrames e) ((depth, sh, initial, vec) :))
     let frame = Slot vec 0
-    forM_ (zip ins' vs) $ \((t, o, s, _), v) -> fit pol p t v >>= writePlace s (at frame o)
-    _ <- within (\e' -> e' {eSelf = vec, eBase = 0, eDepth = depth}) body
+    forM_ (zip ins' vs) $ \((t, o, s), v) -> fit pol p t v >>= writePlace s (at frame o)
+    _ <- within (\e' -> this e' {eSelf = vec, eBase = 0, eDepth = depth}) body
     forM_ outs' $ \(o, Ref target, t) -> do
       v <- readPlace Leaf (at frame o)
       tpl <- target
@@ -595,6 +757,67 @@ callFunction cx p f ins outs = do
     x <- readPlace Leaf (at frame result)
     st (modifySTRef' (eFrames e) (drop 1))
     pure x
+
+-- | A method call (NX-POU-30), as the readable @callMethod@: the instance
+-- found, the method its type has or inherits (NX-POU-31; SUPER^'s: the
+-- named type's, NX-POU-46), the inputs evaluated, then the call on a frame
+-- of the method's with THIS the instance.
+callMethod :: Cx -> Pos -> Dispatch -> CRef -> [(Text, CExpr)] -> [(Text, CRef, Type)] -> Maybe Ex
+callMethod cx p d r ins outs = do
+  (_, Recv recv) <- receiver cx p r
+  exs <- mapM (expr cx . snd) ins
+  let m = case d of
+        Virtual k -> k
+        Static _ k -> k
+      -- each type's method, built when a call first reaches that type
+      byType = LM.fromList [(k, invoke k) | k <- M.keys (prPous (cProg cx))]
+      invoke t = do
+        md <- findMethod (cProg cx) t m
+        owner <- declaring t
+        Code sh body <- join (LM.lookup (owner, key m) (cMethods cx))
+        Framed run <- framed cx p md sh body (map (\(k, e) -> (k, ceType e)) ins) outs
+        Just (Invoke (\pl dyn vs -> case pl of
+          Slot vec base -> run (\e -> e {eThis = vec, eThisBase = base, eThisType = dyn}) vs
+          InFB {} -> abort Bail))
+      -- the type whose declaration holds the method (as findMethod walks)
+      declaring = go (16 :: Int)
+        where
+          go 0 _ = Nothing
+          go i k = do
+            td <- lookupPou (cProg cx) k
+            if M.member (key m) (pdMethods td) then Just (key (pdName td)) else pdBase td >>= go (i - 1)
+  Just $ Ex $ do
+    (pl, dyn) <- recv
+    let owner = case d of
+          Virtual _ -> dyn
+          Static t _ -> key t
+    case join (LM.lookup owner byType) of
+      Nothing -> abort Bail
+      Just (Invoke run) -> mapM (\(Ex v) -> v) exs >>= run pl dyn
+
+-- | The instance a call runs on, as the readable evaluator finds it (THIS,
+-- a pointer's target, a variable), with its type's key; Nothing outside the
+-- slice.
+receiver :: Cx -> Pos -> CRef -> Maybe (Shape, Recv)
+receiver cx p = \case
+  CThis -> do
+    sh <- cThis cx
+    Just (sh, Recv ((\e -> (Slot (eThis e) (eThisBase e), eThisType e)) <$> env))
+  CDeref e t -> do
+    Ex ptr <- expr cx e
+    sh <- shapeOf (cProg cx) t
+    let found = slotAtOf cx t
+    Just $ (sh,) $ Recv $ do
+      v <- ptr
+      case v of
+        VInt _ a | Just (o, TFB n) <- found a -> (\en -> (Slot (eStore en) o, key n)) <$> env
+        _ -> abort Bail
+  r -> do
+    (sh, Ref pl) <- ref cx p r
+    let t = case sh of
+          Record (Just n) _ _ -> key n
+          _ -> ""
+    Just (sh, Recv ((,t) <$> pl))
 
 -- | Where a reference lies, as the readable @refPath@: indices evaluated,
 -- then checked in turn (policy @index-out-of-range@).
@@ -627,6 +850,25 @@ ref cx p = \case
       case pl of
         Slot v o -> pure (Slot v (o + fromInteger linear * esz))
         InFB {} -> abort Bail
+  -- NX-POU-28: THIS^, the instance the code runs on
+  CThis -> do
+    sh <- cThis cx
+    Just (sh, Ref ((\e -> Slot (eThis e) (eThisBase e)) <$> env))
+  -- NX-POU-27: a variable of the instance, inside one of its methods
+  CInstance k -> do
+    Record _ fs _ <- cThis cx
+    (o, s) <- M.lookup k fs
+    Just (s, Ref ((\e -> Slot (eThis e) (eThisBase e + o)) <$> env))
+  -- NX-TYPE-75: the variable of the pointer's base type at its address
+  CDeref e t -> do
+    Ex ptr <- expr cx e
+    sh <- shapeOf (cProg cx) t
+    let found = slotAtOf cx t
+    Just $ (sh,) $ Ref $ do
+      v <- ptr
+      case v of
+        VInt _ a | Just (o, _) <- found a -> (\en -> Slot (eStore en) o) <$> env
+        _ -> abort Bail
   _ -> Nothing
 
 -- | An expression, as the readable @eval@, through the same meaning
@@ -665,6 +907,16 @@ expr cx ce = case ceNode ce of
     xs <- mapM (expr cx) args
     Just (Ex (mapM (\(Ex x) -> x) xs >>= orFault pos . standard pol f (map ceType args)))
   CCall f ins [] outs -> callFunction cx pos f ins outs
+  CMethod d r ins [] outs -> callMethod cx pos d r ins outs
+  -- NX-TYPE-75, NX-OP-68: ADR, the address of the variable's slot
+  CAddressOf r -> do
+    (sh, Ref pl) <- ref cx pos r
+    when (size sh == 0) Nothing
+    Just $ Ex $ do
+      e <- env
+      pl >>= \case
+        Slot v o | MV.overlaps v (eStore e), Just a <- join (cAddresses cx V.!? o) -> pure (VInt DWORD a)
+        _ -> abort Bail
   _ -> Nothing
   where
     pol = cPol cx
