@@ -80,6 +80,32 @@ caseDifferences c = do
       Nothing -> Just (Scan (M.toList (callSet cr)))
       Just r -> Reset <$> lookup r resetEvents
 
+-- | A corpus case run whole by the engine with the fast evaluator where it
+-- applies (which runs consecutive cycles as one batch on its slots) and
+-- with the readable one: where they differ (the machine after the run, the
+-- first error with its cycle, the cycles run). Nothing when the fast
+-- evaluator does not accept the program.
+runDifference :: Case -> Maybe (Maybe String)
+runDifference c = do
+  pol <- either (const Nothing) Just (casePolicies defaultRunOptions c)
+  _ <- caseIec c
+  let rq = buildRequest pol c (effectiveExpect pol c)
+      choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
+  cycle <- either (const Nothing) Just (cycleMillis pol (maybe "T#10ms" id (rqCycle rq)))
+  prog <- checked pol choice (rqSource rq)
+  _ <- fastCycle pol prog
+  calls <- mapM callOf (rqCalls rq)
+  let run ev = case runProgramWith ev Nothing Nothing pol "fast.st" (rqSource rq) choice cycle (M.toList (prInit (rqPlc rq))) calls of
+        Right (Right (r, _)) -> Right (show (rrMachine r), show (rrError r), rrCycles r)
+        Right (Left e) -> Left (show e)
+        Left _ -> Left "rejected"
+      (readable, fast) = (run Readable, run FastWhereItApplies)
+  pure (if readable == fast then Nothing else Just (T.unpack (caseId c) <> ": readable " <> show readable <> ", fast " <> show fast))
+  where
+    callOf cr = case callReset cr of
+      Nothing -> Just (Scan (M.toList (callSet cr)))
+      Just r -> Reset <$> lookup r resetEvents
+
 -- | A generated program over its cycles.
 generatedDifferences :: Policies -> GenProgram -> Maybe [String]
 generatedDifferences pol gp = do
@@ -105,6 +131,9 @@ spec = describe "IEC.Fast: the fast evaluator gives the readable evaluator's cyc
     putStrLn ("      the fast path runs " <> show (length results) <> " of the " <> show running <> " corpus cases whose program the checker accepts (" <> show (length cases) <> " cases); " <> show ran <> " of their " <> show cycles <> " cycles without handing one to the readable evaluator")
     failing `shouldBe` []
     length results `shouldSatisfy` (>= 1000)
+  it "on every corpus case of tecomat and nexto it accepts, run whole by the engine (cycles in batches on its slots)" $ do
+    corpus <- loadCorpus ["conformance/tecomat", "conformance/nexto"]
+    [d | Loaded c <- corpusEntries corpus, Just (Just d) <- [runDifference c]] `shouldBe` []
   it "on generated tecomat programs" $
     agreeOn tecomat (genProgram fullSupport)
   it "on generated nexto programs (pointers and methods among them)" $

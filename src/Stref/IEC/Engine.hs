@@ -34,7 +34,7 @@ import Stref.Conformance.Protocol
 import Stref.IEC.Check (ProgramChoice (..), checkUnit, locationType)
 import Stref.IEC.Checked
 import Stref.IEC.Eval
-import Stref.IEC.Fast (fastCycle)
+import Stref.IEC.Fast (fastCycle, fastCycles)
 import Stref.IEC.Memory (Layout, unionMember)
 import Stref.IEC.Parser (parseUnit, parseUnitExpr)
 import Stref.IEC.Syntax
@@ -104,16 +104,37 @@ runProgramWith ev observer traced pol file src choice cycle initial calls = do
   prog <- checkUnit pol choice unit
   -- translated once for the whole run
   let scan = cycleFunction (maybe ev (const Readable) traced) pol prog
+      -- consecutive cycles that nothing observes or writes before them run
+      -- on the fast evaluator's slots without a machine between them
+      batches = case (ev, traced, observer) of
+        (FastWhereItApplies, Nothing, Nothing) -> fastCycles pol prog
+        _ -> Nothing
   pure $ do
     let (started, initError) = initialize pol prog Nothing (maybe id startTrace traced (initialMachine prog))
     m0 <- foldM (setPath pol prog) started initial
+    -- solo: how many cycles still to run one at a time (after a batch that
+    -- left the fast evaluator's slice, its cycles are run one by one)
     let done m k err seen = Right (RunResult prog m err (k - 1), reverse seen)
-        go m k err seen [] = done m k err seen
-        go m k err seen (Reset ev : rest) =
+        go _ m k err seen [] = done m k err seen
+        go solo m k err seen (Reset ev : rest) =
           let (m1, stop) = restart pol prog ev m
-           in go m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) seen rest
-        go m k err seen (Scan sets : rest) = do
+           in go solo m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) seen rest
+        go solo m k err seen (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
+          let (plain, later) = plainScans rest
+              clocks = [toInteger (k - 1 + i) * cycle | i <- [0 .. length plain]]
+          case batches of
+            Just cycles | solo <= 0 && not (null plain) -> case cycles clocks m1 of
+              -- the batch ran cycles k .. k + ran - 1, the last one stopped if any did
+              Just (m2, ran, stop) ->
+                let last' = k + ran - 1
+                    err' = maybe err (\s -> Just (maybe (last', s) id err)) stop
+                 in case err' `seq` stop of
+                      Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' last', reverse seen)
+                      _ -> go 0 m2 (last' + 1) err' seen (drop (ran - 1) plain ++ later)
+              Nothing -> one (length clocks) m1 k err seen rest
+            _ -> one solo m1 k err seen rest
+        one solo m1 k err seen rest = do
           let (m2, stop) = scan (toInteger (k - 1) * cycle) (traceCycle k m1)
               err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
               -- nothing kept without an observer: a long run stays in constant memory
@@ -122,10 +143,18 @@ runProgramWith ev observer traced pol file src choice cycle initial calls = do
           -- its cycle's machine until the end of the run
           case err' `seq` seen' `seq` stop of
             Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' k, reverse seen')
-            _ -> go m2 (k + 1) err' seen' rest
+            _ -> go (solo - 1) m2 (k + 1) err' seen' rest
     case initError of
       Just e -> Right (RunResult prog m0 (Just (1, e)) 0, [])
-      Nothing -> go m0 1 Nothing [] calls
+      Nothing -> go (0 :: Int) m0 1 Nothing [] calls
+
+-- | The cycles at the head of the calls that write nothing before them, at
+-- most a thousand (a batch of the fast evaluator's), and the calls after.
+plainScans :: [Call] -> ([Call], [Call])
+plainScans calls =
+  let (plain, rest) = span (\case Scan [] -> True; _ -> False) calls
+      (batch, over) = splitAt 999 plain
+   in (batch, over ++ rest)
 
 -- | Write a variable or a located variable before a cycle.
 setPath :: Policies -> Program -> Machine -> (Text, Scalar) -> Either Text Machine

@@ -46,6 +46,7 @@
 module Stref.IEC.Fast
   ( fastCycle
   , fastCycleOnly
+  , fastCycles
   ) where
 
 import Control.Monad (ap, forM, forM_, join, liftM, when)
@@ -418,6 +419,16 @@ fastCycle pol prog = do
 -- follow), so that the tests can tell which cycles it ran.
 fastCycleOnly :: Policies -> Program -> Maybe (Integer -> Machine -> Maybe (Machine, Maybe Stop))
 fastCycleOnly pol prog = do
+  cycles <- fastCycles pol prog
+  pure $ \clock m0 -> (\(m, _, stop) -> (m, stop)) <$> cycles [clock] m0
+
+-- | Consecutive cycles at these clocks, on the same slots: the machine is
+-- loaded before the first and rebuilt after the last, which is the one
+-- that stopped if one did; with the number of cycles run. The same as
+-- 'runCycle' cycle after cycle (nothing is written between them). Nothing
+-- when a cycle leaves the slice: the caller then runs them one by one.
+fastCycles :: Policies -> Program -> Maybe ([Integer] -> Machine -> Maybe (Machine, Int, Maybe Stop))
+fastCycles pol prog = do
   -- outside the slice: implicit checks, VAR_CONFIG, periodic tasks (runCycle's schedule)
   when (not (null (prChecks prog)) || not (null (prVarConfig prog)) || not (M.null (prPeriods prog))) Nothing
   gshapes <- forM [v | v <- prGlobals prog, viAt v == Nothing] $ \v -> (viKey v,) <$> shapeOf prog (viType v)
@@ -442,7 +453,7 @@ fastCycleOnly pol prog = do
     Code _ (Body' body) <- join (LM.lookup (key (pdName d)) pous)
     (base, _) <- lookup k progs
     Just (Body' (within (\e -> e {eSelf = eStore e, eBase = base, eThis = eStore e, eThisBase = base, eThisType = key (pdName d)}) body))
-  let cycleWith clock m0 = runST $ do
+  let cyclesWith clocks m0 = runST $ do
         store <- MV.new total
         ok <- foldlM (\ok (k, (o, s)) -> if ok then maybe (pure False) (load store o s) (M.lookup k (mGlobals m0)) else pure False) True globals
         ok' <- foldlM (\ok (k, (o, s)) -> if ok then maybe (pure False) (load store o s) (M.lookup k (mPrograms m0)) else pure False) ok progs
@@ -451,23 +462,33 @@ fastCycleOnly pol prog = do
           else do
             steps <- MU.replicate 1 0
             frames <- newSTRef []
-            let e = Env store store 0 store 0 "" 0 steps frames clock
-            r <- unM (mapM_ (\(Body' b) -> b) runs) e
-            let restore pairs src = foldlM (\m (k, (o, s)) -> maybe (pure m) (\old -> (\v -> M.insert k v m) <$> rebuild store o s old) (M.lookup k m)) src pairs
-            gs <- restore globals (mGlobals m0)
-            ps <- restore progs (mPrograms m0)
-            n <- MU.read steps 0
-            let m1 = m0 {mGlobals = gs, mPrograms = ps, mClock = clock, mSteps = n, mFrames = M.empty}
-            case r of
-              Left Bail -> pure Nothing
-              Left (Faulted p f) -> do
-                fs <- readSTRef frames
-                open <- forM fs $ \(d, s, initial, v) -> (d,) <$> rebuild v 0 s initial
-                pure (Just (m1 {mFrames = M.fromList open}, Just (StopFault p f)))
-              Right () -> pure (Just (m1, Nothing))
+            -- each cycle as runCycle starts it: no steps, no frames
+            let go ran clock = \case
+                  [] -> pure (Right (ran, clock, Nothing))
+                  c : later -> do
+                    MU.write steps 0 0
+                    writeSTRef frames []
+                    r <- unM (mapM_ (\(Body' b) -> b) runs) (Env store store 0 store 0 "" 0 steps frames c)
+                    case r of
+                      Left Bail -> pure (Left ())
+                      Left (Faulted p f) -> pure (Right (ran + 1, c, Just (StopFault p f)))
+                      Right () -> go (ran + 1) c later
+            outcome <- go 0 (mClock m0) clocks
+            case outcome of
+              Left () -> pure Nothing
+              Right (ran, clock, stop) -> do
+                let restore pairs src = foldlM (\m (k, (o, s)) -> maybe (pure m) (\old -> (\v -> M.insert k v m) <$> rebuild store o s old) (M.lookup k m)) src pairs
+                gs <- restore globals (mGlobals m0)
+                ps <- restore progs (mPrograms m0)
+                n <- MU.read steps 0
+                -- the frames of the calls a runtime error interrupted
+                open <- case stop of
+                  Nothing -> pure []
+                  Just _ -> readSTRef frames >>= mapM (\(d, s, initial, v) -> (d,) <$> rebuild v 0 s initial)
+                pure (Just (m0 {mGlobals = gs, mPrograms = ps, mClock = clock, mSteps = n, mFrames = M.fromList open}, ran, stop))
   -- a traced run is the readable evaluator's
-  pure $ \clock m0 -> case mTrace m0 of
-    Nothing -> cycleWith clock m0
+  pure $ \clocks m0 -> case mTrace m0 of
+    Nothing -> cyclesWith clocks m0
     Just _ -> Nothing
 
 translatePou :: Cx -> PouDef -> Maybe Code
