@@ -66,6 +66,7 @@ import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Eval
+import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
@@ -128,7 +129,11 @@ shapeOf prog = \case
   TFB n -> do
     d <- lookupPou prog n
     case pdBody d of
-      Native _ -> Just Opaque
+      -- a standard FB with a twin ("Stref.IEC.Fast.StandardFB") has its
+      -- variables, hidden ones included, in slots; the others keep their map
+      Native _
+        | key (pdName d) `elem` twinNames -> record (Just (pdName d)) <$> mapM (\v -> (viKey v,) <$> shapeOf prog (viType v)) (pdVars d)
+        | otherwise -> Just Opaque
       Statements _ -> pouShape prog d
   _ -> Nothing
 
@@ -686,6 +691,13 @@ callFB cx p c = do
   let temps = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
   Callee run <- case (sh, pdBody d) of
     -- the standard FB's meaning on the instance's variables
+    -- the twin of the standard FB's meaning, on its slots
+    (Record _ fs _, Native _) -> do
+      when (not (M.null temps)) Nothing
+      Twin f <- twin pol (pdName d) (\k -> fst <$> M.lookup k fs)
+      Just $ Callee $ \vec base _ -> do
+        clock <- eClock <$> env
+        st (f clock vec base)
     (Opaque, Native f) -> Just $ Callee $ \vec o _ -> do
       clock <- eClock <$> env
       st $ MV.read vec o >>= \case

@@ -15,6 +15,10 @@ module Stref.IEC.StandardFB
   ( standardFBs
   , standardFBNames
   , libraryTypes
+  , libraryNames
+  , pvMax
+  , pvMin
+  , downQ
   ) where
 
 import qualified Data.Map.Strict as M
@@ -78,10 +82,7 @@ iecFBs pol =
   ]
   where
     fb n vars hidden = nativeFB n vars [(h, TElem BOOL, v) | (h, v) <- hidden]
-    -- the library's names and the counters' type (policy standard-library)
-    (set1, reset, set, reset1, load, counter) = case pStandardLibrary pol of
-      LibraryIec -> ("S1", "R", "S", "R1", "LD", INT) -- TC-FB-13: PV and CV are INT
-      LibraryCodesys -> ("SET1", "RESET", "SET", "RESET1", "LOAD", WORD) -- NX-FB-11: WORD
+    (set1, reset, set, reset1, load, counter) = libraryNames pol
     inB n = (n, SecInput, TElem BOOL)
     outB n = (n, SecOutput, TElem BOOL)
     inC n = (n, SecInput, TElem counter)
@@ -92,6 +93,14 @@ iecFBs pol =
     tp = timerTP
     ton = timerTON
     tof = timerTOF
+
+-- | The names of the bistables' and counters' inputs and the counters'
+-- type, by policy @standard-library@: S1, R, S, R1, LD and INT (TC-FB-13),
+-- or SET1, RESET, SET, RESET1, LOAD and WORD (NX-FB-11).
+libraryNames :: Policies -> (Text, Text, Text, Text, Text, Elem)
+libraryNames pol = case pStandardLibrary pol of
+  LibraryIec -> ("S1", "R", "S", "R1", "LD", INT)
+  LibraryCodesys -> ("SET1", "RESET", "SET", "RESET1", "LOAD", WORD)
 
 bool :: Text -> FBState -> Bool
 bool k s = case M.lookup k s of
