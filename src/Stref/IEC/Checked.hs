@@ -27,6 +27,7 @@ import qualified Data.Map.Strict as M
 import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Syntax (AssignOp, BinOp, EdgeQualifier, Location, Pos, PouKind, Section, UnOp)
+import Data.Char (chr, isAscii, ord)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy (Policies, TimeRange)
@@ -34,7 +35,12 @@ import Stref.Policy (Policies, TimeRange)
 -- | Names compare without case (TC-LEX-15): every map is keyed by the
 -- upper-case name.
 key :: Text -> Text
-key = T.toUpper
+key t
+  -- an ASCII name (nearly every one) without the Unicode case tables
+  | T.all isAscii t = T.map asciiUpper t
+  | otherwise = T.toUpper t
+  where
+    asciiUpper c = if c >= 'a' && c <= 'z' then chr (ord c - 32) else c
 
 data Program = Program
   { prPous :: Map Text PouDef -- ^ user and standard POUs by key

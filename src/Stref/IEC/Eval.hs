@@ -28,6 +28,9 @@ module Stref.IEC.Eval
   , watchdogFault
   , fitWhy
   , indexWhy
+  , intValue
+  , convertValue
+  , checkDivName
   , ordinal
   , asBool
   , forDefaultStep

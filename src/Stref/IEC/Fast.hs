@@ -260,6 +260,13 @@ fit pol p t v = case fst (fitWhy pol t v) of
   Right x -> x `seq` pure x
   Left f -> abort (Faulted p f)
 
+-- | A store into a target of a declared type, with the check function of a
+-- subrange where one applies (the readable @fitValue@).
+newtype Fitter = Fitter (forall s. Value -> M s Value)
+
+-- | An implicit check function's call: its inputs' values, its result.
+newtype Checker = Checker (forall s. [Value] -> M s Value)
+
 ------------------------------------------------------------------------------
 -- Places
 
@@ -295,6 +302,7 @@ data Cx = Cx
   , cGlobals :: M.Map Text (Int, Shape)
   , cSelf :: M.Map Text (Int, Shape) -- ^ the running POU's variables
   , cThis :: Maybe Shape -- ^ the instance THIS names, as this code sees it (a function has none)
+  , cChecked :: Bool -- ^ the implicit check functions apply in this code (the readable cxChecked)
   , cLoop :: Bool -- ^ inside a loop (CONTINUE is only translated there)
   , cPous :: LM.Map Text (Maybe Code) -- ^ every user POU's translated body, built when first used
   , cMethods :: LM.Map (Text, Text) (Maybe Code)
@@ -434,8 +442,8 @@ fastCycleOnly pol prog = do
 -- when a cycle leaves the slice: the caller then runs them one by one.
 fastCycles :: Policies -> Program -> Maybe ([Integer] -> Machine -> Maybe (Machine, Int, Maybe Stop))
 fastCycles pol prog = do
-  -- outside the slice: implicit checks, VAR_CONFIG, periodic tasks (runCycle's schedule)
-  when (not (null (prChecks prog)) || not (null (prVarConfig prog)) || not (M.null (prPeriods prog))) Nothing
+  -- outside the slice: VAR_CONFIG, periodic tasks (runCycle's schedule)
+  when (not (null (prVarConfig prog)) || not (M.null (prPeriods prog))) Nothing
   gshapes <- forM [v | v <- prGlobals prog, viAt v == Nothing] $ \v -> (viKey v,) <$> shapeOf prog (viType v)
   let instances = [(key i, d) | (i, t) <- prInstances prog, Just d <- [lookupPou prog t]]
       distinct = M.toList (M.fromList instances)
@@ -449,7 +457,7 @@ fastCycles pol prog = do
         RootGlobal k -> lookup k globals
         RootProgram k -> lookup k progs
         _ -> Nothing
-      cx = Cx pol prog (M.fromList globals) M.empty Nothing False pous methods [(r, t, a, stored r) | (r, t, a) <- mmRoots memory] (mmLayout memory) addresses
+      cx = Cx pol prog (M.fromList globals) M.empty Nothing False False pous methods [(r, t, a, stored r) | (r, t, a) <- mmRoots memory] (mmLayout memory) addresses
       addresses = V.generate total (slotAddress cx)
       pous = LM.fromList [(k, translatePou cx d) | (k, d) <- M.toList (prPous prog), Statements _ <- [pdBody d]]
       -- a method is translated on the variables of the type that declares it
@@ -519,7 +527,7 @@ translateOn cx this d = do
   ss <- case pdBody d of
     Statements ss -> Just ss
     Native _ -> Nothing
-  let cx' = cx {cSelf = fields, cThis = this, cLoop = False}
+  let cx' = cx {cSelf = fields, cThis = this, cChecked = pdChecked d, cLoop = False}
   St body <- block cx' ss
   temps <- forM [v | v <- pdVars d, viSection v == SecTemp] $ \v -> (\(o, s) -> (o, s, viInit v)) <$> M.lookup (viKey v) fields
   pure $ Code sh $ Body' $ do
@@ -551,11 +559,12 @@ stmt cx = \case
     Ex v <- expr cx e
     (sh, Ref target) <- ref cx p r
     writable sh t (ceType e)
+    Fitter fitted <- fitter cx p t
     Just $ St $ do
       tk p
       x <- v
       pl <- target
-      x' <- fit pol p t x
+      x' <- fitted x
       Next <$ writePlace sh pl x'
   CCallFB p c -> do
     St call <- callFB cx p c
@@ -614,6 +623,46 @@ stmt cx = \case
     pol = cPol cx
     tk = tick pol (pStepBudget pol)
 
+-- | A store into a target of a declared type, as the readable @fitValue@:
+-- a subrange's value goes through CheckRangeSigned or CheckRangeUnsigned
+-- first where one applies (NX-ERR-15, NX-ERR-16), then 'fitWhy'.
+fitter :: Cx -> Pos -> Type -> Maybe Fitter
+fitter cx p t = case t of
+  TSubrange e lo hi -> do
+    check <- implicit cx p (if isSignedInt e then "CHECKRANGESIGNED" else "CHECKRANGEUNSIGNED")
+    Just $ Fitter $ \v0 -> do
+      v <- case (check, v0) of
+        (Just (Checker call), VInt e' n0) -> VInt e' . intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
+        _ -> pure v0
+      fit pol p t v
+  _ -> Just (Fitter (fit pol p t))
+  where
+    pol = cPol cx
+
+-- | An implicit check function (NX-ERR-1..20) as the readable
+-- @implicitCheck@ calls it: when the program declares it and this code is
+-- checked, a call with the values converted to its inputs' types (Just
+-- Nothing: no check here). Nothing outside the slice: a check function
+-- that is itself checked, or has a subrange input (translating its call
+-- could come back to it).
+implicit :: Cx -> Pos -> Text -> Maybe (Maybe Checker)
+implicit cx p name
+  | cChecked cx && name `elem` prChecks (cProg cx) = case lookupPou (cProg cx) name of
+      Nothing -> Just Nothing
+      Just d -> do
+        let params = [v | v <- pdVars d, viSection v == SecInput]
+        when (pdChecked d || any (isSubrange . viType) params) Nothing
+        Code sh body <- join (LM.lookup (key (pdName d)) (cPous cx))
+        Framed run <- framed cx p d sh body [(viKey v, viType v) | v <- params] []
+        Just $ Just $ Checker $ \args -> do
+          vs <- forM (zip params args) $ \(v, a) -> orFault p (convertValue (cPol cx) (viType v) a)
+          run id vs
+  | otherwise = Just Nothing
+  where
+    isSubrange = \case
+      TSubrange {} -> True
+      _ -> False
+
 -- | A value of this type can be stored whole at a place of this shape: an
 -- elementary one, or data of the very type (the readable evaluator would
 -- store another array's bounds with its elements).
@@ -633,12 +682,13 @@ forLoop cx p r t start end step body = do
   (sh, Ref target) <- ref cx p r
   when (not (isLeaf sh)) Nothing
   b <- block cx {cLoop = True} body
+  Fitter fitted <- fitter cx p t
   let pol = cPol cx
       once = pForBounds pol == ForOnce
   Just $ St $ do
     x0 <- s0
     pl <- target
-    fit pol p t x0 >>= writePlace Leaf pl
+    fitted x0 >>= writePlace Leaf pl
     e0' <- e0
     st0 <- stepOf
     let current v ex = if once then pure v else ex
@@ -659,7 +709,7 @@ forLoop cx p r t start end step body = do
                     then pure Next
                     else do
                       v <- orFault p (binary pol BAdd i' (VInt elemT (intOf stNow)))
-                      fit pol p t v >>= writePlace Leaf pl
+                      fitted v >>= writePlace Leaf pl
                       loop
                 Just fl -> pure fl
                 Nothing -> pure Next
@@ -681,12 +731,14 @@ callFB cx p c = do
     Ex v <- expr cx e
     (o, s) <- member sh k
     writable s (paramType d k) (ceType e)
-    Just (paramType d k, o, s, Ex v)
+    f <- fitter cx p (paramType d k)
+    Just (f, o, s, Ex v)
   outs <- forM (fcOutputs c) $ \(k, r, t) -> do
     (o, s) <- member sh k
     (ts, Ref target) <- ref cx p r
     when (not (isLeaf ts && isLeaf s)) Nothing
-    Just (o, Ref target, t)
+    f <- fitter cx p t
+    Just (o, Ref target, f)
   -- a native FB's VAR_TEMP (none of the standard ones has any)
   let temps = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
   Callee run <- case (sh, pdBody d) of
@@ -710,15 +762,15 @@ callFB cx p c = do
   Just $ St $ do
     vs <- mapM (\(_, _, _, Ex v) -> v) ins
     (pl, dyn) <- inst
-    forM_ (zip ins vs) $ \((t, o, s, _), v) -> fit pol p t v >>= writePlace s (at pl o)
+    forM_ (zip ins vs) $ \((Fitter f, o, s, _), v) -> f v >>= writePlace s (at pl o)
     deeper p
     case pl of
       Slot vec base -> run vec base dyn
       InFB {} -> abort Bail
-    forM_ outs $ \(o, Ref target, t) -> do
+    forM_ outs $ \(o, Ref target, Fitter f) -> do
       v <- readPlace Leaf (at pl o)
       tpl <- target
-      fit pol p t v >>= writePlace Leaf tpl
+      f v >>= writePlace Leaf tpl
     pure Next
   where
     pol = cPol cx
@@ -760,12 +812,14 @@ framed cx p d sh (Body' body) ins outs = do
   ins' <- forM ins $ \(k, from) -> do
     (o, s) <- member sh k
     writable s (paramType d k) from
-    Just (paramType d k, o, s)
+    f <- fitter cx p (paramType d k)
+    Just (f, o, s)
   outs' <- forM outs $ \(k, r, t) -> do
     (o, s) <- member sh k
     (ts, Ref target) <- ref cx p r
     when (not (isLeaf ts && isLeaf s)) Nothing
-    Just (o, Ref target, t)
+    f <- fitter cx p t
+    Just (o, Ref target, f)
   (result, rs) <- member sh (key (pdName d))
   when (not (isLeaf rs)) Nothing
   -- the initial frame laid out once; each call starts from a copy
@@ -773,7 +827,6 @@ framed cx p d sh (Body' body) ins outs = do
     v <- MV.new (size sh)
     ok <- load v 0 sh initial
     if ok then Just <$> V.freeze v else pure Nothing
-  let pol = cPol cx
   Just $ Framed $ \this vs -> do
     deeper p
     e <- env
@@ -781,12 +834,12 @@ framed cx p d sh (Body' body) ins outs = do
     vec <- st (V.thaw slots)
     st (modifySTRef' (eFrames e) ((depth, sh, initial, vec) :))
     let frame = Slot vec 0
-    forM_ (zip ins' vs) $ \((t, o, s), v) -> fit pol p t v >>= writePlace s (at frame o)
+    forM_ (zip ins' vs) $ \((Fitter f, o, s), v) -> f v >>= writePlace s (at frame o)
     _ <- within (\e' -> this e' {eSelf = vec, eBase = 0, eDepth = depth}) body
-    forM_ outs' $ \(o, Ref target, t) -> do
+    forM_ outs' $ \(o, Ref target, Fitter f) -> do
       v <- readPlace Leaf (at frame o)
       tpl <- target
-      fit pol p t v >>= writePlace Leaf tpl
+      f v >>= writePlace Leaf tpl
     x <- readPlace Leaf (at frame result)
     st (modifySTRef' (eFrames e) (drop 1))
     pure x
@@ -837,6 +890,7 @@ receiver cx p = \case
     sh <- cThis cx
     Just (sh, Recv ((\e -> (Slot (eThis e) (eThisBase e), eThisType e)) <$> env))
   CDeref e t -> do
+    Nothing <- implicit cx p "CHECKPOINTER"
     Ex ptr <- expr cx e
     sh <- shapeOf (cProg cx) t
     let found = slotAtOf cx t
@@ -870,14 +924,19 @@ ref cx p = \case
     (Array bs e esz _, Ref base) <- ref cx p r
     when (length ixs /= length bs) Nothing
     is <- mapM (expr cx) ixs
+    -- NX-ERR-5..8: CheckBounds' result is the index
+    check <- implicit cx p "CHECKBOUNDS"
     let pol = cPol cx
+        bounded n0 (lo, hi) = case check of
+          Just (Checker call) -> intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
+          Nothing -> pure n0
     Just $ (e,) $ Ref $ do
       pl <- base
       vs <- mapM (\(Ex i) -> i) is
       ns <- forM vs $ \case
         VInt _ n -> pure n
         _ -> abort Bail
-      checked <- forM (zip ns bs) $ \(n, b) -> orFault p (fst (indexWhy pol b n))
+      checked <- forM (zip ns bs) $ \(n0, b) -> bounded n0 b >>= \n -> orFault p (fst (indexWhy pol b n))
       -- TC-TYPE-43: the rightmost index varies fastest
       let linear = foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1) + (i - lo)) 0 (zip bs checked)
       case pl of
@@ -894,6 +953,9 @@ ref cx p = \case
     Just (s, Ref ((\e -> Slot (eThis e) (eThisBase e + o)) <$> env))
   -- NX-TYPE-75: the variable of the pointer's base type at its address
   CDeref e t -> do
+    -- (CheckPointer, which is told whether the access writes, is the
+    -- readable evaluator's)
+    Nothing <- implicit cx p "CHECKPOINTER"
     Ex ptr <- expr cx e
     sh <- shapeOf (cProg cx) t
     let found = slotAtOf cx t
@@ -917,7 +979,14 @@ expr cx ce = case ceNode ce of
     Just (Ex (x >>= orFault pos . unary pol o))
   CBinary o a b -> do
     Ex x <- expr cx a
-    Ex y <- expr cx b
+    Ex y0 <- expr cx b
+    -- NX-ERR-11..13: CheckDiv*'s result is the divisor
+    check <- case (o, baseElem (ceType b) >>= checkDivName) of
+      (BDiv, Just name) -> implicit cx pos name
+      _ -> Just Nothing
+    let y = case check of
+          Just (Checker call) -> y0 >>= \v -> call [v] >>= orFault pos . convertValue pol (ceType b)
+          Nothing -> y0
     -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first
     Just $ Ex $ do
       u <- x
