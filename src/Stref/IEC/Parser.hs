@@ -675,8 +675,10 @@ initValue pol = do
     , IExpr <$> expr pol
     ]
   where
+    -- a repeat count: a number or a constant's name (an expression there
+    -- would read CNT((a := 1)) as a call of CNT)
     arrayItem = do
-      rep <- optional (try (expr pol <* lookAhead (symbol pol "(")))
+      rep <- optional (try (count <* lookAhead (symbol pol "(")))
       case rep of
         Just n -> do
           symbol pol "("
@@ -685,6 +687,9 @@ initValue pol = do
           pure (Just n, fromMaybe (IArray noPos []) v)
         Nothing -> (Nothing,) <$> initValue pol
     structItem = (,) <$> (name pol <* symbol pol ":=") <*> initValue pol
+    count = do
+      p <- pos
+      ELit p <$> number pol <|> EVar p <$> name pol
 
 sectionP :: Policies -> Parser Section
 sectionP pol =
