@@ -1510,6 +1510,9 @@ assignable t ce
       pol <- asks envPol
       case (baseElem (ceType ce), baseElem t) of
         (Just from, Just to) | implicitAllowed (pImplicitConversions pol) from to -> pure (CExpr (cePos ce) t (CConvert t ce))
+        -- arrays are one type only with the same bounds and elements: no
+        -- conversion joins two others
+        _ | TArray {} <- t, TArray {} <- ceType ce -> failC "type-mismatch" (cePos ce) ("a value of type " <> typeText (ceType ce) <> " where " <> typeText t <> " is expected: arrays of other bounds or elements are other types " <> citing pol ["TC-TYPE-38", "NX-TYPE-43"])
         _ -> failC "type-mismatch" (cePos ce) ("a value of type " <> typeText (ceType ce) <> " where " <> typeText t <> " is expected; convert it explicitly " <> citing pol ["TC-CONV-1", "TC-CONV-3", "NX-CONV-1", "NX-CONV-2"])
 
 -- | NX-TYPE-75, NX-TYPE-78: an address is a DWORD: any pointer, or a

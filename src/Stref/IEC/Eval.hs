@@ -321,9 +321,10 @@ statement p = noting (\_ _ -> Statement (posLine p))
 traceFault :: Policies -> Pos -> Fault -> Machine -> Machine
 traceFault pol p f m = m {mTrace = emit (Failure (posLine p) rule (faultMessage f)) <$> mTrace m}
   where
+    -- (not again when the message cites it already)
     rule = case citedRules pol (decision (faultRules (faultKind f)) "") of
-      r : _ -> Just r
-      [] -> Nothing
+      r : _ | not (r `T.isInfixOf` faultMessage f) -> Just r
+      _ -> Nothing
 
 -- | The rules behind each kind of runtime error, in both IEC catalogues.
 faultRules :: Text -> [Text]
@@ -331,7 +332,9 @@ faultRules = \case
   "watchdog" -> ["TC-ERR-1", "NX-ERR-26"]
   "division-by-zero" -> ["TC-OP-22", "NX-OP-29"]
   "index-out-of-range" -> ["TC-ERR-3", "NX-ERR-9"]
-  "subrange" -> ["TC-TYPE-33", "NX-ERR-17"]
+  -- NX-TYPE-70: a value outside the subrange is an error (NX-ERR-17 is the
+  -- unchecked alternative's)
+  "subrange" -> ["TC-TYPE-33", "NX-TYPE-70"]
   "overflow" -> ["TC-OP-20", "NX-OP-32"]
   "null-pointer" -> ["NX-ERR-21"]
   "conversion" -> ["TC-CONV-12", "NX-ERR-22"]
