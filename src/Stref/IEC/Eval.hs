@@ -44,6 +44,7 @@ import Control.Monad.Reader (ReaderT, ask, asks, local, runReaderT)
 import Control.Monad.State.Strict (State, gets, modify', runState)
 import Data.Char (chr, ord)
 import Data.Bits (clearBit, setBit, shiftL, shiftR, testBit, (.&.))
+import Data.Foldable (toList)
 import Data.List (find)
 import qualified Data.Map.Strict as M
 import Data.Maybe (fromMaybe, isJust)
@@ -1081,7 +1082,21 @@ fitWhy pol t v = case (t, v) of
         ( Right (VInt e (wrapInt e n))
         , [ruled ["TC-TYPE-33", "NX-ERR-17"] "subrange" (T.pack (show n) <> " lies outside " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> ": stored unchecked") | (n < lo || n > hi) && pSubrange pol == SubrangeUnchecked]
         )
+  -- TC-TYPE-33: an array or structure copied whole stores each element or
+  -- field of a subrange type as that subrange's store would
+  (TArray _ et, VArray bs xs) | holdsSubrange et ->
+    let rs = fmap (fitWhy pol et) xs
+     in (VArray bs <$> traverse fst rs, concatMap snd (toList rs))
+  (TStruct _ fs, VStruct m) | any (holdsSubrange . snd) fs ->
+    let rs = [(k, fitWhy pol ft x) | (n, ft) <- fs, let k = T.toUpper n, Just x <- [M.lookup k m], holdsSubrange ft]
+     in (VStruct . foldr (uncurry M.insert) m <$> traverse (traverse fst) rs, concatMap (snd . snd) rs)
   _ -> (Right v, [])
+  where
+    holdsSubrange = \case
+      TSubrange {} -> True
+      TArray _ et -> holdsSubrange et
+      TStruct _ fs -> any (holdsSubrange . snd) fs
+      _ -> False
 
 rootValue :: Layout -> Root -> Machine -> Maybe Value
 rootValue ly r m = case r of
