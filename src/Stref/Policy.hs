@@ -46,6 +46,8 @@ module Stref.Policy
   , TimeRange (..)
   , Model (..)
   , SourceForm (..)
+  , OverflowFlag (..)
+  , overflowFlagName
   , mastertoolXE
   , tecomat
   , nexto
@@ -248,9 +250,22 @@ data Model = MasterToolController | IecController
 data SourceForm = IecSource | MasterToolSource
   deriving (Eq, Ord, Show, Enum, Bounded)
 
+-- | Does the controller keep a flag of the last arithmetic overflow? None
+-- (IEC), or MasterTool XE's INTERNAL_OVERFLOW (MT-OP-7): a BOOL global the
+-- controller declares, which every +, -, *, unary - and EXPT sets to whether
+-- it overflowed and every other operation leaves. Part of the preset, like
+-- the model: the flag is a variable of the controller.
+data OverflowFlag = NoOverflowFlag | InternalOverflowFlag
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+-- | The name of the global 'InternalOverflowFlag' keeps (MT-OP-7, MT-SIG-6).
+overflowFlagName :: Text
+overflowFlagName = "INTERNAL_OVERFLOW"
+
 data Policies = Policies
   { pModel :: !Model
   , pSourceForm :: !SourceForm
+  , pOverflowFlag :: !OverflowFlag
   , pOverflow :: !Overflow
   , pArithWidth :: !ArithWidth
   , pDivZero :: !DivZero
@@ -311,6 +326,7 @@ mastertoolXE =
   Policies
     { pModel = MasterToolController
     , pSourceForm = MasterToolSource -- MT-POU-1, MT-MAP-2
+    , pOverflowFlag = InternalOverflowFlag -- MT-OP-7
     , pOverflow = Saturate -- MT-OP-6, MT-OP-7
     , pArithWidth = OperandType -- MT-OP-4
     , pDivZero = DivZeroError -- MT-OP-9
@@ -362,6 +378,7 @@ tecomat =
   Policies
     { pModel = IecController
     , pSourceForm = IecSource
+    , pOverflowFlag = NoOverflowFlag
     , pOverflow = Wrap -- TC-OP-20
     , pArithWidth = OperandType -- TC-CONV-2
     , pDivZero = DivZeroError -- TC-OP-22

@@ -56,7 +56,7 @@ import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord3
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, isConversionName, truncTo)
 import Stref.IEC.Memory (Layout (..), layout, remembering, areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
-import Stref.IEC.Operators (binary, binaryWhy, unary, wrapUnder)
+import Stref.IEC.Operators (binary, binaryOverflows, binaryWhy, unary, unaryOverflows, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
 import Stref.IEC.Types
@@ -727,7 +727,11 @@ forLoop p r t start end step body = do
                 if ends
                   then note (LoopExit l k)
                   else do
-                    v <- operate p BAdd i' (VInt elemT (intOf stNow))
+                    let stepV = VInt elemT (intOf stNow)
+                    v <- operate p BAdd i' stepV
+                    -- A13: under stop-at-end the increment is not an addition an
+                    -- overflow flag follows (MT-OP-7); under follow-overflow-policy it is
+                    when (pForAtTypeMax pol == FollowOverflowPolicy) (flagOverflow (binaryOverflows pol BAdd i' stepV))
                     storeTarget p t r target v
                     loop (k + 1)
   loop 1
@@ -770,7 +774,8 @@ eval ce = case ceNode ce of
   CUnary o a -> do
     pol <- asks cxPol
     v <- eval a
-    orFault (cePos ce) (unary pol o v)
+    r <- orFault (cePos ce) (unary pol o v)
+    r <$ flagOverflow (unaryOverflows pol o v)
   CBinary o a b -> do
     pol <- asks cxPol
     x <- eval a
@@ -785,7 +790,8 @@ eval ce = case ceNode ce of
         y <- case (o, baseElem (ceType b) >>= checkDivName) of
           (BDiv, Just name) -> implicitCheck (cePos ce) name [y0] >>= maybe (pure y0) (orFault (cePos ce) . convertValue pol (ceType b))
           _ -> pure y0
-        operate (cePos ce) o x y
+        r <- operate (cePos ce) o x y
+        r <$ flagOverflow (binaryOverflows pol o x y)
   -- NX-CONV-35: TRUNC in a context of another integer type truncates into
   -- that type: beyond it, real-to-int's saturate/wrap half decides
   CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [x])) | isInt e -> do
@@ -828,6 +834,9 @@ eval ce = case ceNode ce of
     pol <- asks cxPol
     vs <- mapM eval args
     r <- orFault (cePos ce) (standard pol f (map ceType args) vs)
+    case (f, vs) of
+      ("EXPT", [x, y]) -> flagOverflow (binaryOverflows pol BPow x y)
+      _ -> pure ()
     -- a conversion function is told as CConvert is; whether f is one is
     -- asked only when tracing (the name is parsed each time)
     on <- tracing
@@ -844,6 +853,17 @@ eval ce = case ceNode ce of
     path <- refPath (cePos ce) r
     a <- addressOf path
     maybe (fault (cePos ce) (Fault "null-pointer" "this variable has no address")) (pure . VInt DWORD) a
+
+-- | MT-OP-7 (policy @overflow-flag@): an operation an overflow flag follows
+-- sets the controller's flag, the global 'overflowFlagName', to whether it
+-- overflowed; 'Nothing' (another operation) leaves it. Without the policy,
+-- or where the controller declares no such global, nothing is written.
+flagOverflow :: Maybe Bool -> Eval ()
+flagOverflow Nothing = pure ()
+flagOverflow (Just o) = do
+  pol <- asks cxPol
+  when (pOverflowFlag pol == InternalOverflowFlag) $
+    modify' (\m -> m {mGlobals = M.adjust (const (VBool o)) overflowFlagName (mGlobals m)})
 
 -- | A binary operator's value; where a policy decided it, the rule goes to
 -- the trace.

@@ -444,6 +444,8 @@ fastCycles :: Policies -> Program -> Maybe ([Integer] -> Machine -> Maybe (Machi
 fastCycles pol prog = do
   -- outside the slice: VAR_CONFIG, periodic tasks (runCycle's schedule)
   when (not (null (prVarConfig prog)) || not (M.null (prPeriods prog))) Nothing
+  -- outside the slice: an overflow flag (MT-OP-7), which runCycle's operators set
+  when (pOverflowFlag pol /= NoOverflowFlag) Nothing
   gshapes <- forM [v | v <- prGlobals prog, viAt v == Nothing] $ \v -> (viKey v,) <$> shapeOf prog (viType v)
   let instances = [(key i, d) | (i, t) <- prInstances prog, Just d <- [lookupPou prog t]]
       distinct = M.toList (M.fromList instances)

@@ -20,6 +20,8 @@ module Stref.IEC.Operators
   , binary
   , binaryWhy
   , unary
+  , binaryOverflows
+  , unaryOverflows
     -- * Shared with the standard functions and the conversions
   , intResult
   , inRange
@@ -612,6 +614,49 @@ unary p op v = case (op, v) of
   (UPlus, VLReal _) -> Right v
   (UPlus, VTime _ _) -> Right v
   _ -> Left (illTyped ("the operator " <> unOpSymbol op <> " on " <> describe v))
+
+-- | MT-OP-7 (policy @overflow-flag@): did @a op b@ overflow? 'Just' for the
+-- operations an overflow flag follows, + - * and EXPT (@**@) on numbers,
+-- whether the exact result left the range the @overflow@ policy fitted it
+-- into (DINT's for a narrower operand under @promote-32@), or whether a REAL
+-- result of finite operands is infinite (@real-overflow@); 'Nothing' for
+-- the other operators and operands, which leave the flag. Arithmetic on a
+-- bit string never overflows (it wraps, 'intResult').
+binaryOverflows :: Policies -> BinOp -> Value -> Value -> Maybe Bool
+binaryOverflows p op a b = case (a, b) of
+  (VInt e x, VInt _ y)
+    | op `elem` [BAdd, BSub, BMul] -> intOverflows p e <$> exactInt p op x y
+    | op == BPow -> Just (y >= 0 && intOverflows p e (if abs x >= 2 && y > 128 then 2 ^ (129 :: Int) else x ^ y))
+  (VReal x, VReal y) | op `elem` [BAdd, BSub, BMul] -> realOverflows <$> realArith op x y <*> pure [x, y]
+  (VLReal x, VLReal y) | op `elem` [BAdd, BSub, BMul] -> realOverflows <$> realArith op x y <*> pure [x, y]
+  (VReal x, _) | op == BPow, Just y <- asDouble b -> Just (powerOverflows double2Float (float2Double x) y)
+  (VLReal x, _) | op == BPow, Just y <- asDouble b -> Just (powerOverflows id x y)
+  _ -> Nothing
+  where
+    realOverflows r operands = isInfinite r && all finite operands
+    powerOverflows :: RealFloat a => (Double -> a) -> Double -> Double -> Bool
+    powerOverflows narrow x y = not (x == 0 && y < 0) && finite x && finite y && isInfinite (narrow (x ** y))
+    asDouble = \case
+      VInt _ k -> Just (fromInteger k)
+      VReal y -> Just (float2Double y)
+      VLReal y -> Just y
+      _ -> Nothing
+
+-- | MT-OP-7: did the unary minus overflow ('binaryOverflows')? A REAL's
+-- never does; NOT and unary plus leave the flag.
+unaryOverflows :: Policies -> UnOp -> Value -> Maybe Bool
+unaryOverflows p op v = case (op, v) of
+  (UNeg, VInt e x) -> Just (intOverflows p e (negate x))
+  (UNeg, VReal _) -> Just False
+  (UNeg, VLReal _) -> Just False
+  _ -> Nothing
+
+-- | Does an exact integer result leave the range 'intResult' fits it into?
+intOverflows :: Policies -> Elem -> Integer -> Bool
+intOverflows p e n
+  | isBitString e = False
+  | pArithWidth p == Promote32, isAnyInt e, intBits e < 32 = not (fitsUnder p DINT n)
+  | otherwise = not (fitsUnder p e n)
 
 -- | A fault that a checked program never meets: operands of types the
 -- checker rejects.

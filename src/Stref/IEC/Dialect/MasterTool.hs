@@ -75,10 +75,11 @@ operandTypes l = case locationOperand l of
 -- keywords, type names, standard function names, the predeclared signals
 -- and INTERNAL_ names, as the MasterTool lexer classifies them.
 --
--- The signals INPUT1..3 and OUTPUT1..3 (MT-SIG-1) are left out: the
--- controller declares them as globals (Stref.IEC.Dialect.MasterToolCore),
--- so that a program's own declaration of one is a duplicate.
+-- The signals INPUT1..3 and OUTPUT1..3 (MT-SIG-1) and INTERNAL_OVERFLOW
+-- (MT-OP-7) are left out: the controller declares them as globals
+-- (Stref.IEC.Dialect.MasterToolCore), so that a program's own declaration
+-- of one is a duplicate.
 reservedWord :: Policies -> T.Text -> Bool
 reservedWord pol w =
   let u = T.toUpper w
-   in classifyWord pol u /= WPlain && not (classifyWord pol u == WPredeclared && u /= "INTERNAL_OVERFLOW")
+   in classifyWord pol u /= WPlain && classifyWord pol u /= WPredeclared

@@ -38,7 +38,7 @@ import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Secti
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.IEC.Values (Fault (..), Value (..))
 import Stref.Operands (Operand (..), SimpleKind (..), cellDeclared, operandCell, parseOperand, renderOperand)
-import Stref.Policy (Policies (..))
+import Stref.Policy (Policies (..), overflowFlagName)
 import Stref.Syntax (Pos (..), noPos)
 import Stref.Values (realFromBits)
 import Stref.Verification (VerificationError (..))
@@ -54,8 +54,11 @@ checkedOnCore pol rq = do
 signals :: [Text]
 signals = ["INPUT1", "INPUT2", "INPUT3", "OUTPUT1", "OUTPUT2", "OUTPUT3"]
 
+-- | The BOOL globals the controller declares: the signals, and the overflow
+-- flag INTERNAL_OVERFLOW (MT-OP-7, MT-SIG-6), which the core's + - * unary -
+-- and EXPT set under the preset's @overflow-flag@.
 withSignals :: Unit -> Unit
-withSignals (Unit decls) = Unit (DGlobals (VarBlock noPos SecGlobal False False [VarDecl noPos [(noPos, n)] Nothing (TSName noPos "BOOL") Nothing Nothing [] [] | n <- signals] False []) : decls)
+withSignals (Unit decls) = Unit (DGlobals (VarBlock noPos SecGlobal False False [VarDecl noPos [(noPos, n)] Nothing (TSName noPos "BOOL") Nothing Nothing [] [] | n <- signals ++ [overflowFlagName]] False []) : decls)
 
 -- | The mapped variables of the program (globals and the program's own),
 -- each with its initial value when its declaration has an initialiser.
@@ -156,8 +159,9 @@ coreAnswer pol rq = do
                 let initialised = foldl (\acc (l, t, v) -> maybe acc (\x -> writeLocatedVar l t x acc) v) m1 (mapped unit prog)
                     (m2, initStop) = initialize pol prog Nothing (initialMachine prog) {mMemory = mMemory initialised}
                 when (isJust initStop) (Left "an error while initialising")
-                -- MT-SIG-4: the signals at the start of the call
-                let start = m2 {mGlobals = foldr (uncurry M.insert) (mGlobals m2) (zip signals (map VBool [input1, input2, input3, True, False, False]))}
+                -- MT-SIG-4: the signals at the start of the call; A5, MT-OP-7 (d):
+                -- INTERNAL_OVERFLOW FALSE
+                let start = m2 {mGlobals = foldr (uncurry M.insert) (mGlobals m2) (zip (signals ++ [overflowFlagName]) (map VBool [input1, input2, input3, True, False, False, False]))}
                     (m3, stop) = runCycle pol prog 0 start
                     output k = M.lookup k (mGlobals m3) == Just (VBool True)
                 err <- case stop of
