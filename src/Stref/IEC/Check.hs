@@ -26,7 +26,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
-import Stref.IEC.Dialect.MasterTool (operandTypes, reservedWord)
+import Stref.IEC.Dialect.MasterTool (operandTakes, reservedWord)
 import Stref.IEC.Memory (layout, sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, fitsUnder, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
@@ -577,9 +577,10 @@ declVars kind sec constant retention d = do
   -- TC-ADDR-4, TC-ADDR-5: a BOOL lies at a bit address; under CODESYS also
   -- at a byte, word or double word address, of which it fills the first
   -- byte (NX-TYPE-18)
-  -- MT-MAP-5, MT-MAP-6, MT-MAP-11 (Table 4-8): the types a MasterTool operand takes
+  -- MT-MAP-5, MT-MAP-6, MT-MAP-9, MT-MAP-11, MT-MAP-12 (Table 4-8): the types a
+  -- MasterTool operand takes
   case vdAt d of
-    Just l | pSourceForm pol == MasterToolSource, ty `notElem` map TElem (operandTypes l) ->
+    Just l | pSourceForm pol == MasterToolSource, not (operandTakes l ty) ->
       failC "incompatible-operand" (vdPos d) ("the PLC operand " <> locText l <> " is incompatible with " <> typeText ty)
     _ -> pure ()
   case (vdAt d, ty) of

@@ -993,6 +993,8 @@ refPath p = \case
           orFault p r
         pure (extend base (StepIndex checked))
       _ -> pure (extend base (StepIndex ns))
+  -- MT-MAP-9: an array at a direct address is the bytes of the row it covers
+  CLocated l t@(TArray {}) -> let (area, a, _, _) = placeOf l t in pure (RefPath (RootBytes area a t) [])
   CLocated l _ -> pure (RefPath (RootLocated (locText l)) [])
   CDeref e t -> do
     -- NX-TYPE-75: the variable of the pointer's base type at its address;
@@ -1292,9 +1294,18 @@ placeOf l t = case (t, locAddress l) of
       Just TIME -> 4
       _ -> 1
 
+-- | The elements of an array at a direct address (MT-MAP-9): one after the
+-- other from its first byte, each as wide as its type, as the layout lays
+-- out an array of elementary values.
+elementLocations :: Location -> [(Integer, Integer)] -> Type -> [Location]
+elementLocations l b et =
+  let (_, a, _, width) = placeOf l et
+   in [l {locAddress = [a + i * toInteger width]} | i <- [0 .. product [hi - lo + 1 | (lo, hi) <- b] - 1]]
+
 -- | A TIME is read as the policy time-range counts it: a signed count, or a
 -- DWORD's (NX-TYPE-30).
 readLocated :: TimeRange -> Location -> Type -> M.Map (Char, Integer) Integer -> Value
+readLocated range l (TArray b et) mem = VArray b (Seq.fromList [readLocated range l' et mem | l' <- elementLocations l b et])
 readLocated range l t mem =
   let (area, a, bit, width) = placeOf l t
       byte i = M.findWithDefault 0 (area, a + toInteger i) mem
@@ -1309,6 +1320,7 @@ readLocated range l t mem =
         _ -> defaultValue t
 
 writeLocated :: Location -> Type -> Value -> M.Map (Char, Integer) Integer -> M.Map (Char, Integer) Integer
+writeLocated l (TArray b et) (VArray _ xs) mem = foldl (\m (l', x) -> writeLocated l' et x m) mem (zip (elementLocations l b et) (toList xs))
 writeLocated l t v mem =
   let (area, a, bit, width) = placeOf l t
       raw = case v of

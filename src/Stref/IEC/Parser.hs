@@ -532,7 +532,11 @@ location pol | pSourceForm pol == MasterToolSource = lexeme pol $ do
   _ <- char '%'
   letters <- takeWhileP Nothing isAsciiLetter
   digits <- takeWhileP Nothing isDigit
-  sub <- option "" (choice [(\b -> "." <> b) <$> (char '.' *> takeWhile1P Nothing isDigit), (\p -> "[" <> p <> "]") <$> (char '[' *> takeWhile1P Nothing isDigit <* char ']')])
+  -- MT-MAP-7: spaces may surround a table position; a bit after one is read
+  -- with it, for the operand rules to refuse (MT-MAP-16)
+  let bit = (\b -> "." <> b) <$> (char '.' *> takeWhile1P Nothing isDigit)
+      position = (\p -> "[" <> p <> "]") <$> (char '[' *> takeWhileP Nothing (\c -> isDigit c || c == ' ') <* char ']')
+  sub <- option "" (choice [bit, (<>) <$> position <*> option "" bit])
   case parseOperand ("%" <> letters <> digits <> sub) >>= operandLocation of
     Left why -> failAt off "invalid-operand" why
     Right l -> pure l

@@ -11,19 +11,24 @@
 -- little-endian as in the core. The types Table 4-8 allows on an operand
 -- have exactly its width (MT-MAP-5), so that no variable straddles two
 -- operands and this byte layout cannot be told from a table of typed slots.
+-- A table kind is an area too ('tableArea'), each table a row of 65536
+-- positions in it; an array mapped onto an operand covers the row of
+-- operands from it on ('operandTakes', MT-MAP-9).
 module Stref.IEC.Dialect.MasterTool
   ( operandLocation
   , locationOperand
   , operandTypes
+  , operandTakes
   , operandByteWidth
+  , tableByteWidth
   , reservedWord
   ) where
 
 import qualified Data.Text as T
 import Stref.Lexical (WordClass (..), classifyWord)
 import Stref.IEC.Syntax (Location (..))
-import Stref.IEC.Types (Elem (..))
-import Stref.Operands (Operand (..), SimpleKind (..), parseOperand, renderOperand, simpleLetter)
+import Stref.IEC.Types (Elem (..), Type (..))
+import Stref.Operands (Operand (..), SimpleKind (..), TableKind (..), parseOperand, renderOperand, simpleLetter)
 import Stref.Policy (Policies)
 
 -- | The bytes of one operand of a kind (MT-MAP-17, Table 2-1).
@@ -36,15 +41,35 @@ operandByteWidth = \case
   KI -> 4
   KF -> 4
 
+-- | The bytes of one position of a table kind (MT-MAP-17: %TM holds words
+-- as %M does, %TI and %TF double words as %I and %F).
+tableByteWidth :: TableKind -> Integer
+tableByteWidth = \case
+  TM -> 2
+  TI -> 4
+  TF -> 4
+
+-- | The area of a table kind (MT-MAP-2, MT-MAP-7): a character no simple
+-- kind and no IEC area uses, the kind's letter in lower case. Table n is
+-- the row of positions n × 65536 .. n × 65536 + 65535 of its kind's area (a
+-- position is at most 65535, Stref.Operands), so that each table is an
+-- area of its own named by its kind and number, and the positions an
+-- array mapped onto a table covers are a row of bytes (MT-MAP-9).
+tableArea :: TableKind -> Char
+tableArea = \case
+  TM -> 'm'
+  TI -> 'i'
+  TF -> 'f'
+
 -- | An operand as the core's location: its bytes in its kind's area; the
--- text is the operand's canonical spelling (four-digit addresses). Table
--- positions (%TM0010[5]) are not yet located variables of the core.
+-- text is the operand's canonical spelling (four-digit addresses).
 operandLocation :: Operand -> Either T.Text Location
 operandLocation op = case op of
   OpSimple k a -> Right (Location txt (letter k) (sizeOf k) [toInteger a * operandByteWidth k])
   -- MT-MAP-6: a bit of %E, %S, %A (0..7) or %M (0..15)
   OpBit k a b -> Right (Location txt (letter k) 'X' [toInteger a * operandByteWidth k + toInteger b `div` 8, toInteger b `mod` 8])
-  OpTablePos {} -> Left ("the table position " <> txt <> " is not a located variable of the IEC core yet")
+  -- MT-MAP-7: a table position
+  OpTablePos k a p -> Right (Location txt (tableArea k) (if k == TM then 'W' else 'D') [(toInteger a * 65536 + toInteger p) * tableByteWidth k])
   where
     txt = renderOperand op
     letter = T.head . simpleLetter
@@ -69,7 +94,21 @@ operandTypes l = case locationOperand l of
     KI -> [DINT, DWORD]
     KF -> [REAL]
     _ -> [USINT, BYTE]
+  Just (OpTablePos k _ _) -> case k of
+    TM -> [INT, WORD]
+    TI -> [DINT, DWORD]
+    TF -> [REAL]
   _ -> []
+
+-- | May a variable of the type be mapped onto the location? An elementary
+-- type of Table 4-8 (MT-MAP-5, MT-MAP-6), or a one-dimensional array of one
+-- (MT-MAP-9, MT-MAP-12) that is not BOOL (MT-MAP-11), which covers a row of
+-- operands from the location on.
+operandTakes :: Location -> Type -> Bool
+operandTakes l = \case
+  TArray [_] (TElem e) -> e /= BOOL && e `elem` operandTypes l
+  TElem e -> e `elem` operandTypes l
+  _ -> False
 
 -- | A word a MasterTool declaration cannot take as its name (MT-LEX-17):
 -- keywords, type names, standard function names, the predeclared signals

@@ -37,7 +37,7 @@ import Stref.IEC.Parser (parseUnit)
 import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Section (..), TypeSpec (..), Unit (..), VarBlock (..), VarDecl (..))
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.IEC.Values (Fault (..), Value (..))
-import Stref.Operands (Operand (..), SimpleKind (..), cellDeclared, operandCell, parseOperand, renderOperand)
+import Stref.Operands (Operand (..), SimpleKind (..), TableKind (..), cellDeclared, operandCell, parseOperand, renderOperand)
 import Stref.Policy (Policies (..), overflowFlagName)
 import Stref.Syntax (Pos (..), noPos)
 import Stref.Values (realFromBits)
@@ -70,6 +70,25 @@ mapped (Unit decls) prog =
     initialised = [(n, l) | d <- concat [vbDecls b | b <- [b | DGlobals b <- decls] ++ concat [pouVars p | DPou p <- decls]], isJust (vdInit d), Just l <- [vdAt d], (_, n) <- vdNames d]
     initial l v = if (viName v, l) `elem` initialised then Just (viInit v) else Nothing
 
+-- | The operands a mapped variable covers: its operand, or for an array
+-- the row of as many operands from it on (MT-MAP-9: element k at the
+-- first operand + k - lower bound), Nothing when one lies beyond the
+-- addresses an operand can have.
+coveredOperands :: Location -> Type -> Maybe [Operand]
+coveredOperands l t = do
+  op <- either (const Nothing) Just (parseOperand (locText l))
+  let n = case t of
+        TArray b _ -> product [hi - lo + 1 | (lo, hi) <- b]
+        _ -> 1
+  ops <- traverse (next op) [0 .. n - 1]
+  ops <$ traverse (either (const Nothing) Just . parseOperand . renderOperand) ops
+  where
+    next op i = case op of
+      OpSimple k a -> Just (OpSimple k (a + fromInteger i))
+      OpTablePos k a p -> Just (OpTablePos k a (p + fromInteger i))
+      OpBit {} | i == 0 -> Just op
+      _ -> Nothing
+
 -- | MT-ERR-2050: MasterTool stops a call nested deeper than 16 calls. The
 -- core has no such limit yet; without recursion (MT-POU-10) a program of
 -- fewer than 16 functions cannot reach it.
@@ -87,6 +106,7 @@ operandPlace op = (\l -> (l, TElem (widthType op))) <$> operandLocation op
         KI -> DWORD
         KF -> DWORD
         _ -> BYTE
+      OpTablePos TM _ _ -> WORD
       OpTablePos {} -> DWORD
 
 -- | Write a scalar of the request into an operand.
@@ -106,8 +126,13 @@ readScalar prog m op = do
   pure $ case (op, readLocatedVar prog l t m) of
     (OpBit {}, VBool b) -> SBool b
     (OpSimple KF _, VInt _ n) -> scalarFromFloat (realFromBits (fromInteger n :: Word32))
-    (OpSimple k _, VInt _ n) -> let w = if k == KM then 16 else if k == KI then 32 else 8 :: Int in SNumber (fromInteger (if n >= 2 ^ (w - 1) then n - 2 ^ w else n))
+    (OpTablePos TF _ _, VInt _ n) -> scalarFromFloat (realFromBits (fromInteger n :: Word32))
+    (OpSimple k _, VInt _ n) -> signed (if k == KM then 16 else if k == KI then 32 else 8) n
+    (OpTablePos k _ _, VInt _ n) -> signed (if k == TM then 16 else 32) n
     (_, v) -> SBool (v == VBool True)
+  where
+    signed :: Int -> Integer -> Scalar
+    signed w n = SNumber (fromInteger (if n >= 2 ^ (w - 1) then n - 2 ^ w else n))
 
 -- | The MasterTool code of a runtime error of the core (corpus-format §4.3
 -- kinds; MT-ERR-2015, MT-ERR-2020, MT-ERR-2030).
@@ -140,8 +165,9 @@ coreAnswer pol rq = do
       when (mayNestTooDeep unit) (Left "16 functions or more: the nesting limit (2050) is not on the core yet")
       -- MT-MAP-8: a mapped operand the configuration does not declare is a
       -- runtime error (2000-2002) before the first statement
-      forM_ (mapped unit prog) $ \(l, _, _) -> case parseOperand (locText l) of
-        Right op | cellDeclared cfg (operandCell op) -> Right ()
+      -- (MT-MAP-10: every operand of a mapped array)
+      forM_ (mapped unit prog) $ \(l, t, _) -> case coveredOperands l t of
+        Just ops | all (cellDeclared cfg . operandCell) ops -> Right ()
         _ -> Left "a mapped operand the configuration does not declare (errors 2000-2002)"
       m0 <- foldlM writeScalar (initialMachine prog) {mMemory = M.empty} initial
       let band = [OpSimple KM (diag + i) | i <- [0 .. 4]]
@@ -198,7 +224,7 @@ widenObservation :: Policies -> Request -> Request
 widenObservation pol rq = case checkedOnCore pol rq of
   Left _ -> rq
   Right (unit, prog) ->
-    let extra = [locText l | (l, _, _) <- mapped unit prog] ++ either (const []) (\case OpSimple KM a -> [renderOperand (OpSimple KM (a + i)) | i <- [0 .. 4]]; _ -> []) (parseOperand (prDiagnostics (rqPlc rq)))
+    let extra = [renderOperand op | (l, t, _) <- mapped unit prog, op <- concat (coveredOperands l t)] ++ either (const []) (\case OpSimple KM a -> [renderOperand (OpSimple KM (a + i)) | i <- [0 .. 4]]; _ -> []) (parseOperand (prDiagnostics (rqPlc rq)))
         ob = rqObserve rq
      in rq {rqObserve = ob {obsOperands = nub (obsOperands ob ++ extra)}}
 
