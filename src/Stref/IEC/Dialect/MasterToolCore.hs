@@ -6,8 +6,10 @@
 -- preset, and the controller's rules around a module call written here:
 -- operands as located variables (Stref.IEC.Dialect.MasterTool), per-call
 -- initialisation of everything not mapped (MT-MAP-1), initialisers of
--- mapped variables written at every call (MT-MAP-15), INPUT1 (MT-SIG-3),
--- OUTPUT1 (MT-SIG-4, MT-SIG-5), the diagnostic band (MT-DIAG-2, MT-DIAG-4).
+-- mapped variables written at every call (MT-MAP-15), undeclared mapped
+-- operands (MT-MAP-8, MT-MAP-10: 2000-2002), INPUT1 (MT-SIG-3), OUTPUT1
+-- (MT-SIG-4, MT-SIG-5), INTERNAL_OVERFLOW (MT-OP-7), the diagnostic band
+-- (MT-DIAG-2, MT-DIAG-4).
 -- What the slice does not cover yet it declines with the reason.
 --
 -- 'compareOnCore' runs a request through today's MasterTool engine
@@ -20,7 +22,7 @@ module Stref.IEC.Dialect.MasterToolCore
   , widenObservation
   ) where
 
-import Control.Monad (forM, forM_, unless, when)
+import Control.Monad (forM, unless, when)
 import Data.List (nub, sortOn)
 import qualified Data.Map.Strict as M
 import Data.Maybe (isJust)
@@ -37,7 +39,7 @@ import Stref.IEC.Parser (parseUnit)
 import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Section (..), TypeSpec (..), Unit (..), VarBlock (..), VarDecl (..))
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.IEC.Values (Fault (..), Value (..))
-import Stref.Operands (Operand (..), SimpleKind (..), TableKind (..), cellDeclared, operandCell, parseOperand, renderOperand)
+import Stref.Operands (Cell (..), Operand (..), PlcConfig (..), SimpleKind (..), TableKind (..), cellDeclared, operandCell, operandKindCode, parseOperand, renderOperand)
 import Stref.Policy (Policies (..), overflowFlagName)
 import Stref.Syntax (Pos (..), noPos)
 import Stref.Values (realFromBits)
@@ -88,6 +90,15 @@ coveredOperands l t = do
       OpTablePos k a p -> Just (OpTablePos k a (p + fromInteger i))
       OpBit {} | i == 0 -> Just op
       _ -> Nothing
+
+-- | The mapped variables in declaration order, as the controller checks
+-- their operands (MT-MAP-8): the globals, the variables of each function
+-- (MT-MAP-14), then the PROGRAM's.
+mappedInOrder :: Unit -> Program -> [(Location, Type)]
+mappedInOrder (Unit decls) prog =
+  [(l, viType v) | v <- prGlobals prog, Just l <- [viAt v]]
+    ++ [(l, viType v) | DPou p <- decls, pouKind p == KFunction, Just d <- [lookupPou prog (pouName p)], v <- pdVars d, Just l <- [viAt v]]
+    ++ [(l, viType v) | (_, t) <- prRoots prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
 
 -- | MT-ERR-2050: MasterTool stops a call nested deeper than 16 calls. The
 -- core has no such limit yet; without recursion (MT-POU-10) a program of
@@ -163,23 +174,32 @@ coreAnswer pol rq = do
     Left e -> Right (AnswerRejected (Just (posLine (vePos e))) (Just (veKind e)) (veMessage e))
     Right (unit, prog) -> do
       when (mayNestTooDeep unit) (Left "16 functions or more: the nesting limit (2050) is not on the core yet")
-      -- MT-MAP-8: a mapped operand the configuration does not declare is a
-      -- runtime error (2000-2002) before the first statement
-      -- (MT-MAP-10: every operand of a mapped array)
-      forM_ (mapped unit prog) $ \(l, t, _) -> case coveredOperands l t of
-        Just ops | all (cellDeclared cfg . operandCell) ops -> Right ()
-        _ -> Left "a mapped operand the configuration does not declare (errors 2000-2002)"
+      -- MT-MAP-8, MT-MAP-10: every operand a mapped variable covers (each
+      -- element of an array), in declaration order: the first one the
+      -- configuration does not declare is a runtime error before the first
+      -- statement, at the line of decision A2
+      cells <- maybe (Left "a mapped operand beyond the addresses of its kind") (Right . map operandCell . concat) (traverse (uncurry coveredOperands) (mappedInOrder unit prog))
+      let undeclared = case filter (not . cellDeclared cfg) cells of
+            [] -> Nothing
+            c : _ -> Just (pErrorLineBeforeStart pol, undeclaredCell c)
+          undeclaredCell c = case c of
+            CellSimple _ a -> (2000, (operandKindCode c, a, 0)) -- MT-ERR-2000
+            CellTable k a p
+              | M.member (k, a) (plcTables cfg) -> (2002, (operandKindCode c, a, p)) -- MT-ERR-2002
+              | otherwise -> (2001, (operandKindCode c, a, 0)) -- MT-ERR-2001
       m0 <- foldlM writeScalar (initialMachine prog) {mMemory = M.empty} initial
       let band = [OpSimple KM (diag + i) | i <- [0 .. 4]]
           bandValues = \case
             Nothing -> [-32768, 0, 0, 0, 0] -- MT-DIAG-4
-            Just (line, code) -> [line, code, 0, 0, 0] -- MT-DIAG-2
+            Just (line, (code, (c1, c2, c3))) -> [line, code, c1, c2, c3] -- MT-DIAG-2
           writeBand m e = foldlM writeScalar m (zip band (map (SNumber . fromIntegral) (bandValues e)))
           call (m, _) ((input1, input2, input3), sets) = do
             m1 <- foldlM writeScalar m sets
-            if not input1
-              then Right (m1, ((False, False, False), Nothing)) -- MT-SIG-3
-              else do
+            case undeclared of
+              _ | not input1 -> Right (m1, ((False, False, False), Nothing)) -- MT-SIG-3
+              -- MT-MAP-8: the module stops before its data and signals are set
+              Just e -> (,((False, False, False), Just e)) <$> writeBand m1 (Just e)
+              Nothing -> do
                 -- MT-MAP-1: a fresh data area at every call, over the operands;
                 -- MT-MAP-15: initialisers of mapped variables write their operands
                 let initialised = foldl (\acc (l, t, v) -> maybe acc (\x -> writeLocatedVar l t x acc) v) m1 (mapped unit prog)
@@ -195,7 +215,7 @@ coreAnswer pol rq = do
                   Just (StopFault p f) -> case masterToolCode (faultKind f) of
                     -- MT-EXEC-7: the two evaluators count the step budget differently
                     Just 2030 -> Left "the step budget (2030): counted otherwise than by the MasterTool engine"
-                    Just code -> Right (Just (posLine p, code))
+                    Just code -> Right (Just (posLine p, (code, (0, 0, 0))))
                     Nothing -> Left ("the runtime error " <> faultKind f <> ", which has no MasterTool code")
                 m4 <- writeBand m3 err
                 -- MT-SIG-5: a runtime error clears OUTPUT1
@@ -203,7 +223,7 @@ coreAnswer pol rq = do
       (final, (outs, err)) <- foldlM call (m0, ((False, False, False), Nothing)) calls
       operands <- M.fromList <$> traverse (\(t, op) -> (t,) <$> readScalar prog final op) observed
       let (o1, o2, o3) = outs
-          report = fmap (\(line, code) -> ErrorReport (Just code) Nothing (Just line) (Just (0, 0, 0))) err
+          report = fmap (\(line, (code, comps)) -> ErrorReport (Just code) Nothing (Just line) (Just comps)) err
       Right (AnswerRun (maybe VerdictOk (const VerdictRuntimeError) err) (Observation operands M.empty (M.fromList [("OUTPUT1", o1), ("OUTPUT2", o2), ("OUTPUT3", o3)]) report))
   where
     plc = rqPlc rq
