@@ -7,7 +7,8 @@
 -- operands as located variables (Stref.IEC.Dialect.MasterTool), per-call
 -- initialisation of everything not mapped (MT-MAP-1), initialisers of
 -- mapped variables written at every call (MT-MAP-15), undeclared mapped
--- operands (MT-MAP-8, MT-MAP-10: 2000-2002), INPUT1 (MT-SIG-3), OUTPUT1
+-- operands (MT-MAP-8, MT-MAP-10: 2000-2002), the CHF parameters of an F
+-- module (MT-PARAM-3..7: 2003-2012), INPUT1 (MT-SIG-3), OUTPUT1
 -- (MT-SIG-4, MT-SIG-5), INTERNAL_OVERFLOW (MT-OP-7), the diagnostic band
 -- (MT-DIAG-2, MT-DIAG-4).
 -- What the slice does not cover yet it declines with the reason.
@@ -32,14 +33,14 @@ import Data.Word (Word32)
 import Stref.Conformance.Protocol
 import Stref.Engine (referenceEngine, scalarToCellBits)
 import Stref.IEC.Check (ProgramChoice (..), checkUnit)
-import Stref.IEC.Checked (PouDef (..), Program (..), VarInfo (..), lookupPou)
-import Stref.IEC.Dialect.MasterTool (operandLocation)
-import Stref.IEC.Eval (Machine (..), Stop (..), initialMachine, initialize, readLocatedVar, runCycle, writeLocatedVar)
+import Stref.IEC.Checked (PouDef (..), Program (..), VarInfo (..), key, lookupPou)
+import Stref.IEC.Dialect.MasterTool (operandLocation, operandTypes)
+import Stref.IEC.Eval (Machine (..), Stop (..), initialMachine, initialize, readLocatedVar, readVariablePath, runCycle, writeLocatedVar, writeVariablePath)
 import Stref.IEC.Parser (parseUnit)
 import Stref.IEC.Syntax (Decl (..), Location (..), Pou (..), PouKind (..), Section (..), TypeSpec (..), Unit (..), VarBlock (..), VarDecl (..))
-import Stref.IEC.Types (Elem (..), Type (..))
-import Stref.IEC.Values (Fault (..), Value (..))
-import Stref.Operands (Cell (..), Operand (..), PlcConfig (..), SimpleKind (..), TableKind (..), cellDeclared, operandCell, operandKindCode, parseOperand, renderOperand)
+import Stref.IEC.Types (Elem (..), Type (..), intRange)
+import Stref.IEC.Values (Fault (..), Step (..), Value (..))
+import Stref.Operands (Cell (..), ChfArg (..), ConstKind (..), Operand (..), PlcConfig (..), SimpleKind (..), TableKind (..), cellDeclared, operandCell, operandKindCode, parseChfArg, parseOperand, renderOperand)
 import Stref.Policy (Policies (..), overflowFlagName)
 import Stref.Syntax (Pos (..), noPos)
 import Stref.Values (realFromBits)
@@ -100,6 +101,68 @@ mappedInOrder (Unit decls) prog =
     ++ [(l, viType v) | DPou p <- decls, pouKind p == KFunction, Just d <- [lookupPou prog (pouName p)], v <- pdVars d, Just l <- [viAt v]]
     ++ [(l, viType v) | (_, t) <- prRoots prog, Just d <- [lookupPou prog t], v <- pdVars d, Just l <- [viAt v]]
 
+-- | An operand's location (one 'coveredOperands' accepted).
+placeOfOperand :: Operand -> Location
+placeOfOperand op = either (const (Location "" ' ' ' ' [])) id (operandLocation op)
+
+-- | MT-PARAM-3..7: the CHF arguments bound to the PROGRAM's VAR_INPUT (the
+-- first ones), VAR_IN_OUT (the last ones; True marks a VAR_INPUT) and
+-- VAR_OUTPUT, checked before the first statement: the
+-- counts (2009, 2010), then each input and each output in order, a type of
+-- Table 4-8 (2003, 2004), no bit of an operand, a table only for an array,
+-- constants only for a VAR_INPUT that is no array (MT-PARAM-6), a constant
+-- that fits (2008, MT-PARAM-7), every operand declared (2005, 2006), an
+-- array within its table (2011, 2012). The error's first complement is the
+-- parameter's number.
+chfParameters :: PlcConfig -> [(VarInfo, Bool)] -> [VarInfo] -> [ChfArg] -> [ChfArg] -> Either (Int, (Int, Int, Int)) ([(VarInfo, Either Value Operand)], [(VarInfo, Operand)])
+chfParameters cfg ins outs chfIns chfOuts
+  | length chfIns /= length ins = Left (2009, (0, 0, 0)) -- MT-ERR-2009
+  | length chfOuts /= length outs = Left (2010, (0, 0, 0)) -- MT-ERR-2010
+  | otherwise = (,) <$> sequence (zipWith3 input [1 ..] ins chfIns) <*> sequence (zipWith3 output [1 ..] outs chfOuts)
+  where
+    param code n = Left (code, (n, 0, 0))
+    input n (v, isInput) = \case
+      ChfConstant kind r -> case viType v of
+        -- MT-PARAM-6 (2), MT-PARAM-7
+        TElem e | isInput, constantFits kind e -> maybe (param 2008 n) (Right . (v,) . Left) (constantValue e r)
+        _ -> param 2003 n
+      arg -> (v,) . Right <$> operandParam 2003 2005 2011 n v arg
+    output n v = \case
+      ChfConstant {} -> param 2004 n
+      arg -> (v,) <$> operandParam 2004 2006 2012 n v arg
+    takes op e = e `elem` operandTypes (placeOfOperand op)
+    declared = cellDeclared cfg
+    operandParam eType eDecl eShort n v arg = case (viType v, arg) of
+      -- MT-PARAM-6 (3): no partial operands; (4): tables only to arrays
+      (_, ChfOperand OpBit {}) -> param eType n
+      (TElem e, ChfOperand op@OpSimple {})
+        | not (takes op e) -> param eType n -- MT-PARAM-6 (1), Table 4-8
+        | not (declared (operandCell op)) -> param eDecl n -- MT-PARAM-6 (6)
+        | otherwise -> Right op
+      -- MT-PARAM-6 (5), (7): an array takes a block of simple operands or
+      -- (part of) a table, declared over its whole size
+      (t@(TArray [_] (TElem e)), ChfOperand op@OpSimple {})
+        | not (takes op e) -> param eType n
+        | Just ops <- coveredOperands (placeOfOperand op) t, all (declared . operandCell) ops -> Right op
+        | otherwise -> param eDecl n
+      (TArray [(lo, hi)] (TElem e), ChfOperand op@(OpTablePos k a p)) -> table eType eDecl eShort n e (hi - lo + 1) k a p op
+      (TArray [(lo, hi)] (TElem e), ChfTable k a) -> table eType eDecl eShort n e (hi - lo + 1) k a 0 (OpTablePos k a 0)
+      _ -> param eType n
+    table eType eDecl eShort n e len k a p op
+      | not (takes op e) = param eType n
+      | not (M.member (k, a) (plcTables cfg)) || not (declared (CellTable k a p)) = param eDecl n
+      | not (declared (CellTable k a (p + fromInteger len - 1))) = param eShort n -- MT-ERR-2011, 2012
+      | otherwise = Right op
+    constantFits kind e = case kind of
+      KFConst -> e == REAL
+      _ -> e `elem` [USINT, BYTE, INT, WORD, DINT, DWORD]
+    constantValue e r
+      | e == REAL = if abs r <= toRational (3.4028235e38 :: Float) then Just (VReal (fromRational r)) else Nothing
+      | otherwise =
+          let (lo, hi) = intRange e
+              i = truncate r
+           in if fromInteger i == r && i >= lo && i <= hi then Just (VInt e i) else Nothing
+
 -- | MT-ERR-2050: MasterTool stops a call nested deeper than 16 calls. The
 -- core has no such limit yet; without recursion (MT-POU-10) a program of
 -- fewer than 16 functions cannot reach it.
@@ -157,8 +220,14 @@ masterToolCode = \case
 -- | The core's answer to a MasterTool request, or why the slice declines it.
 coreAnswer :: Policies -> Request -> Either Text Answer
 coreAnswer pol rq = do
-  unless (T.toUpper (rqModule rq) == "P") (Left "an F module")
-  when (isJust (prChf plc)) (Left "CHF parameters")
+  let isF = T.toUpper (rqModule rq) == "F"
+  unless (isF || T.toUpper (rqModule rq) == "P") (Left "a module neither P nor F")
+  -- MT-PARAM-2: the arguments of a CHF call an F module
+  (chfIns, chfOuts) <- case prChf plc of
+    Nothing -> Right ([], [])
+    Just c
+      | isF -> (,) <$> traverse parseChfArg (chfIn c) <*> traverse parseChfArg (chfOut c)
+      | otherwise -> Left "CHF parameters of a P module"
   unless (null (obsVars (rqObserve rq))) (Left "named variables observed")
   diag <- case parseOperand (prDiagnostics plc) of
     Right (OpSimple KM a) -> Right a
@@ -187,6 +256,17 @@ coreAnswer pol rq = do
             CellTable k a p
               | M.member (k, a) (plcTables cfg) -> (2002, (operandKindCode c, a, p)) -- MT-ERR-2002
               | otherwise -> (2001, (operandKindCode c, a, 0)) -- MT-ERR-2001
+      (inst, pdef) <- case [(key i, d) | (i, t) <- prRoots prog, Just d <- [lookupPou prog t]] of
+        [x] -> Right x
+        _ -> Left "not one PROGRAM"
+      let params sec = [v | v <- pdVars pdef, viSection v == sec]
+      let parameters = chfParameters cfg ([(v, True) | v <- params SecInput] ++ [(v, False) | v <- params SecInOut]) (params SecOutput) chfIns chfOuts
+          preStart = case (undeclared, parameters) of
+            (Just e, _) -> Just e
+            (_, Left e) -> Just (pErrorLineBeforeStart pol, e)
+            _ -> Nothing
+          (inputs, outputs) = either (const ([], [])) id parameters
+          field v = [StepField inst, StepField (viKey v)]
       m0 <- foldlM writeScalar (initialMachine prog) {mMemory = M.empty} initial
       let band = [OpSimple KM (diag + i) | i <- [0 .. 4]]
           bandValues = \case
@@ -195,9 +275,9 @@ coreAnswer pol rq = do
           writeBand m e = foldlM writeScalar m (zip band (map (SNumber . fromIntegral) (bandValues e)))
           call (m, _) ((input1, input2, input3), sets) = do
             m1 <- foldlM writeScalar m sets
-            case undeclared of
+            case preStart of
               _ | not input1 -> Right (m1, ((False, False, False), Nothing)) -- MT-SIG-3
-              -- MT-MAP-8: the module stops before its data and signals are set
+              -- MT-MAP-8, MT-PARAM-6: the module stops before its data and signals are set
               Just e -> (,((False, False, False), Just e)) <$> writeBand m1 (Just e)
               Nothing -> do
                 -- MT-MAP-1: a fresh data area at every call, over the operands;
@@ -205,9 +285,12 @@ coreAnswer pol rq = do
                 let initialised = foldl (\acc (l, t, v) -> maybe acc (\x -> writeLocatedVar l t x acc) v) m1 (mapped unit prog)
                     (m2, initStop) = initialize pol prog Nothing (initialMachine prog) {mMemory = mMemory initialised}
                 when (isJust initStop) (Left "an error while initialising")
+                -- MT-PARAM-3: VAR_INPUT and VAR_IN_OUT from the CHF inputs, after
+                -- the data area; a VAR_IN_OUT is a copy during the call (MT-PARAM-5)
+                m2' <- foldlM (\acc (v, src) -> maybe (Left "a parameter the core cannot write") Right (writeVariablePath prog acc (field v) (either id (\op -> readLocatedVar prog (placeOfOperand op) (viType v) m2) src))) m2 inputs
                 -- MT-SIG-4: the signals at the start of the call; A5, MT-OP-7 (d):
                 -- INTERNAL_OVERFLOW FALSE
-                let start = m2 {mGlobals = foldr (uncurry M.insert) (mGlobals m2) (zip (signals ++ [overflowFlagName]) (map VBool [input1, input2, input3, True, False, False, False]))}
+                let start = m2' {mGlobals = foldr (uncurry M.insert) (mGlobals m2') (zip (signals ++ [overflowFlagName]) (map VBool [input1, input2, input3, True, False, False, False]))}
                     (m3, stop) = runCycle pol prog 0 start
                     output k = M.lookup k (mGlobals m3) == Just (VBool True)
                 err <- case stop of
@@ -217,7 +300,12 @@ coreAnswer pol rq = do
                     Just 2030 -> Left "the step budget (2030): counted otherwise than by the MasterTool engine"
                     Just code -> Right (Just (posLine p, (code, (0, 0, 0))))
                     Nothing -> Left ("the runtime error " <> faultKind f <> ", which has no MasterTool code")
-                m4 <- writeBand m3 err
+                -- MT-PARAM-5, MT-PARAM-3, A19: after a normal end the VAR_IN_OUT
+                -- back to their operands, then VAR_OUTPUT to the CHF outputs (an
+                -- output wins where both name one operand)
+                let copyBack = [(v, op) | (v, Right op) <- inputs, viSection v == SecInOut] ++ outputs
+                m3' <- if isJust err then Right m3 else foldlM (\acc (v, op) -> maybe (Left "a parameter the core cannot read") (\(x, _) -> Right (writeLocatedVar (placeOfOperand op) (viType v) x acc)) (readVariablePath prog m3 (field v))) m3 copyBack
+                m4 <- writeBand m3' err
                 -- MT-SIG-5: a runtime error clears OUTPUT1
                 Right (m4, ((not (isJust err) && output "OUTPUT1", output "OUTPUT2", output "OUTPUT3"), err))
       (final, (outs, err)) <- foldlM call (m0, ((False, False, False), Nothing)) calls
@@ -237,14 +325,15 @@ data Comparison
   | Declined Text -- ^ outside the slice, with the reason
   deriving (Eq, Show)
 
--- | The request with every operand the program maps and the diagnostic
--- band added to what is observed, so that the comparison sees more than the
+-- | The request with every operand the program maps, the operands of the
+-- CHF arguments and the diagnostic band added to what is observed, so that the comparison sees more than the
 -- case's expectation lists.
 widenObservation :: Policies -> Request -> Request
 widenObservation pol rq = case checkedOnCore pol rq of
   Left _ -> rq
   Right (unit, prog) ->
-    let extra = [renderOperand op | (l, t, _) <- mapped unit prog, op <- concat (coveredOperands l t)] ++ either (const []) (\case OpSimple KM a -> [renderOperand (OpSimple KM (a + i)) | i <- [0 .. 4]]; _ -> []) (parseOperand (prDiagnostics (rqPlc rq)))
+    let chfOperands = [renderOperand op | Just c <- [prChf (rqPlc rq)], Right (ChfOperand op) <- map parseChfArg (chfIn c ++ chfOut c)]
+        extra = [renderOperand op | (l, t, _) <- mapped unit prog, op <- concat (coveredOperands l t)] ++ chfOperands ++ either (const []) (\case OpSimple KM a -> [renderOperand (OpSimple KM (a + i)) | i <- [0 .. 4]]; _ -> []) (parseOperand (prDiagnostics (rqPlc rq)))
         ob = rqObserve rq
      in rq {rqObserve = ob {obsOperands = nub (obsOperands ob ++ extra)}}
 
