@@ -266,6 +266,9 @@ data Policies = Policies
   { pModel :: !Model
   , pSourceForm :: !SourceForm
   , pOverflowFlag :: !OverflowFlag
+  , pCallDepth :: !Int
+  -- ^ the most calls that may be nested; one more is the runtime error
+  -- @call-depth@. Part of the preset, like the model
   , pOverflow :: !Overflow
   , pArithWidth :: !ArithWidth
   , pDivZero :: !DivZero
@@ -327,6 +330,7 @@ mastertoolXE =
     { pModel = MasterToolController
     , pSourceForm = MasterToolSource -- MT-POU-1, MT-MAP-2
     , pOverflowFlag = InternalOverflowFlag -- MT-OP-7
+    , pCallDepth = 16 -- MT-POU-9, MT-LIM-1, MT-ERR-2050
     , pOverflow = Saturate -- MT-OP-6, MT-OP-7
     , pArithWidth = OperandType -- MT-OP-4
     , pDivZero = DivZeroError -- MT-OP-9
@@ -379,6 +383,7 @@ tecomat =
     { pModel = IecController
     , pSourceForm = IecSource
     , pOverflowFlag = NoOverflowFlag
+    , pCallDepth = 1000 -- TC-ERR-6: the manual gives no number; deep enough for any program that ends
     , pOverflow = Wrap -- TC-OP-20
     , pArithWidth = OperandType -- TC-CONV-2
     , pDivZero = DivZeroError -- TC-OP-22

@@ -22,7 +22,6 @@ module Stref.IEC.Eval
   , traceCycle
   , traceOf
     -- * Shared with the fast evaluator ("Stref.IEC.Fast")
-  , maxCallDepth
   , MemoryMap (..)
   , memoryMap
   , watchdogFault
@@ -100,9 +99,6 @@ topContext pol prog = Ctx pol prog (RefPath (RootProgram "") []) (RefPath (RootP
 
 type Eval = ReaderT Ctx (ExceptT Signal (State Machine))
 
--- | Nesting of calls beyond which a cycle ends with @call-depth@.
-maxCallDepth :: Int
-maxCallDepth = 1000
 
 -- | The state before the first cycle: every variable at its initial value
 -- (TC-VAR-35, TC-VAR-36), located variables with initial values written.
@@ -434,7 +430,7 @@ callFB p c = do
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend inst (StepField k)) v
   bindInOuts inst inouts
   depth <- asks cxDepth
-  when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  callDepthLimit p depth
   names <- asks cxNames
   let callee = pathName names inst <> " : " <> pdName d
   note (Call (posLine p) callee [(M.findWithDefault k k names, renderValue v) | (k, v) <- inputs])
@@ -516,7 +512,7 @@ callFunction p f ins inouts outs = do
 callFunctionWith :: Pos -> PouDef -> Maybe RefPath -> [(Text, Value)] -> [(Text, CRef, RefPath)] -> [(Text, CRef, Type)] -> Eval Value
 callFunctionWith p d this inputs refs outs = do
   depth <- asks cxDepth
-  when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  callDepthLimit p depth
   let frame = RefPath (RootFrame (depth + 1)) []
   modify' (\m -> m {mFrames = M.insert (depth + 1) (VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])) (mFrames m)})
   forM_ inputs $ \(k, v) -> storePath p (paramType d k) (extend frame (StepField k)) v
@@ -854,6 +850,13 @@ eval ce = case ceNode ce of
     a <- addressOf path
     maybe (fault (cePos ce) (Fault "null-pointer" "this variable has no address")) (pure . VInt DWORD) a
 
+-- | Nesting of calls beyond which a cycle ends with @call-depth@ (the
+-- preset's @pCallDepth@: MasterTool's 16, MT-POU-9, MT-ERR-2050).
+callDepthLimit :: Pos -> Int -> Eval ()
+callDepthLimit p depth = do
+  pol <- asks cxPol
+  when (depth >= pCallDepth pol) (fault p (Fault "call-depth" "calls nest too deeply"))
+
 -- | MT-OP-7 (policy @overflow-flag@): an operation an overflow flag follows
 -- sets the controller's flag, the global 'overflowFlagName', to whether it
 -- overflowed; 'Nothing' (another operation) leaves it. Without the policy,
@@ -924,7 +927,7 @@ callMethod p d r ins inouts outs = do
   inputs <- forM ins $ \(k, e) -> (k,) <$> eval e
   refs <- forM inouts $ \(k, x) -> (k,x,) <$> refPath p x
   depth <- asks cxDepth
-  when (depth >= maxCallDepth) (fault p (Fault "call-depth" "calls nest too deeply"))
+  callDepthLimit p depth
   case pdKind md of
     KAction -> do
       td <- maybe (fault p (Fault "call-depth" ("unknown type " <> owner))) pure (lookupPou prog owner)

@@ -248,10 +248,10 @@ tick pol budget p = M $ \e -> do
     else Right () <$ MU.write (eSteps e) 0 (n + 1)
 
 -- | The checks every call makes (@call-depth@).
-deeper :: Pos -> M s ()
-deeper p = do
+deeper :: Policies -> Pos -> M s ()
+deeper pol p = do
   d <- eDepth <$> env
-  when (d >= maxCallDepth) (abort (Faulted p (Fault "call-depth" "calls nest too deeply")))
+  when (d >= pCallDepth pol) (abort (Faulted p (Fault "call-depth" "calls nest too deeply")))
 
 -- | A store into a target of a declared type (the readable @fitValue@
 -- without check functions, which the slice leaves out).
@@ -765,7 +765,7 @@ callFB cx p c = do
     vs <- mapM (\(_, _, _, Ex v) -> v) ins
     (pl, dyn) <- inst
     forM_ (zip ins vs) $ \((Fitter f, o, s, _), v) -> f v >>= writePlace s (at pl o)
-    deeper p
+    deeper pol p
     case pl of
       Slot vec base -> run vec base dyn
       InFB {} -> abort Bail
@@ -830,7 +830,7 @@ framed cx p d sh (Body' body) ins outs = do
     ok <- load v 0 sh initial
     if ok then Just <$> V.freeze v else pure Nothing
   Just $ Framed $ \this vs -> do
-    deeper p
+    deeper (cPol cx) p
     e <- env
     let depth = eDepth e + 1
     vec <- st (V.thaw slots)

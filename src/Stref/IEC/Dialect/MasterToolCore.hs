@@ -163,12 +163,6 @@ chfParameters cfg ins outs chfIns chfOuts
               i = truncate r
            in if fromInteger i == r && i >= lo && i <= hi then Just (VInt e i) else Nothing
 
--- | MT-ERR-2050: MasterTool stops a call nested deeper than 16 calls. The
--- core has no such limit yet; without recursion (MT-POU-10) a program of
--- fewer than 16 functions cannot reach it.
-mayNestTooDeep :: Unit -> Bool
-mayNestTooDeep (Unit decls) = length [() | DPou p <- decls, pouKind p == KFunction] >= 16
-
 -- | An operand as a location and the type of its whole width.
 operandPlace :: Operand -> Either Text (Location, Type)
 operandPlace op = (\l -> (l, TElem (widthType op))) <$> operandLocation op
@@ -209,12 +203,13 @@ readScalar prog m op = do
     signed w n = SNumber (fromInteger (if n >= 2 ^ (w - 1) then n - 2 ^ w else n))
 
 -- | The MasterTool code of a runtime error of the core (corpus-format §4.3
--- kinds; MT-ERR-2015, MT-ERR-2020, MT-ERR-2030).
+-- kinds; MT-ERR-2015, MT-ERR-2020, MT-ERR-2030, MT-ERR-2050).
 masterToolCode :: Text -> Maybe Int
 masterToolCode = \case
   "index-out-of-range" -> Just 2015
   "division-by-zero" -> Just 2020
   "watchdog" -> Just 2030
+  "call-depth" -> Just 2050 -- MT-ERR-2050, at the line of the call (A27)
   _ -> Nothing
 
 -- | The core's answer to a MasterTool request, or why the slice declines it.
@@ -242,7 +237,6 @@ coreAnswer pol rq = do
   case checkedOnCore pol rq of
     Left e -> Right (AnswerRejected (Just (posLine (vePos e))) (Just (veKind e)) (veMessage e))
     Right (unit, prog) -> do
-      when (mayNestTooDeep unit) (Left "16 functions or more: the nesting limit (2050) is not on the core yet")
       -- MT-MAP-8, MT-MAP-10: every operand a mapped variable covers (each
       -- element of an array), in declaration order: the first one the
       -- configuration does not declare is a runtime error before the first
