@@ -67,6 +67,14 @@ differences pol prog cycle initial calls = do
 -- Nothing when outside the fast evaluator's slice.
 caseDifferences :: Case -> Maybe ([String], (Int, Int))
 caseDifferences c = do
+  (pol, rq, _, cycle, prog, calls) <- caseRun c
+  differences pol prog cycle (M.toList (prInit (rqPlc rq))) calls
+
+-- | What the engine needs to run a corpus case of an IEC dialect: the
+-- policies, the request, the program choice, the cycle, the checked
+-- program and the calls. Nothing for another case or a rejected program.
+caseRun :: Case -> Maybe (Policies, Request, ProgramChoice, Integer, Program, [Call])
+caseRun c = do
   pol <- either (const Nothing) Just (casePolicies defaultRunOptions c)
   _ <- caseIec c
   let rq = buildRequest pol c (effectiveExpect pol c)
@@ -74,7 +82,7 @@ caseDifferences c = do
   cycle <- either (const Nothing) Just (cycleMillis pol (maybe "T#10ms" id (rqCycle rq)))
   prog <- checked pol choice (rqSource rq)
   calls <- mapM callOf (rqCalls rq)
-  differences pol prog cycle (M.toList (prInit (rqPlc rq))) calls
+  Just (pol, rq, choice, cycle, prog, calls)
   where
     callOf cr = case callReset cr of
       Nothing -> Just (Scan (M.toList (callSet cr)))
@@ -87,24 +95,14 @@ caseDifferences c = do
 -- evaluator does not accept the program.
 runDifference :: Case -> Maybe (Maybe String)
 runDifference c = do
-  pol <- either (const Nothing) Just (casePolicies defaultRunOptions c)
-  _ <- caseIec c
-  let rq = buildRequest pol c (effectiveExpect pol c)
-      choice = maybe ProgramsOfConfiguration ProgramNamed (rqProgram rq)
-  cycle <- either (const Nothing) Just (cycleMillis pol (maybe "T#10ms" id (rqCycle rq)))
-  prog <- checked pol choice (rqSource rq)
+  (pol, rq, choice, cycle, prog, calls) <- caseRun c
   _ <- fastCycle pol prog
-  calls <- mapM callOf (rqCalls rq)
   let run ev = case runProgramWith ev Nothing Nothing pol "fast.st" (rqSource rq) choice cycle (M.toList (prInit (rqPlc rq))) calls of
         Right (Right (r, _)) -> Right (show (rrMachine r), show (rrError r), rrCycles r)
         Right (Left e) -> Left (show e)
         Left _ -> Left "rejected"
       (readable, fast) = (run Readable, run FastWhereItApplies)
   pure (if readable == fast then Nothing else Just (T.unpack (caseId c) <> ": readable " <> show readable <> ", fast " <> show fast))
-  where
-    callOf cr = case callReset cr of
-      Nothing -> Just (Scan (M.toList (callSet cr)))
-      Just r -> Reset <$> lookup r resetEvents
 
 -- | A generated program over its cycles.
 generatedDifferences :: Policies -> GenProgram -> Maybe [String]

@@ -883,6 +883,24 @@ callMethod cx p d r ins outs = do
       Nothing -> abort Bail
       Just (Invoke run) -> mapM (\(Ex v) -> v) exs >>= run pl dyn
 
+-- | What a pointer points at (NX-TYPE-75): the variable of the pointer's
+-- base type at its address, with the type of the variable found there.
+-- (CheckPointer, which is told whether the access writes, is the readable
+-- evaluator's.)
+pointee :: Cx -> Pos -> CExpr -> Type -> Maybe (Shape, Target)
+pointee cx p e t = do
+  Nothing <- implicit cx p "CHECKPOINTER"
+  Ex ptr <- expr cx e
+  sh <- shapeOf (cProg cx) t
+  let found = slotAtOf cx t
+  Just $ (sh,) $ Target $ do
+    v <- ptr
+    case v of
+      VInt _ a | Just (o, ft) <- found a -> (\en -> (Slot (eStore en) o, ft)) <$> env
+      _ -> abort Bail
+
+newtype Target = Target (forall s. M s (Place s, Type))
+
 -- | The instance a call runs on, as the readable evaluator finds it (THIS,
 -- a pointer's target, a variable), with its type's key; Nothing outside the
 -- slice.
@@ -892,14 +910,10 @@ receiver cx p = \case
     sh <- cThis cx
     Just (sh, Recv ((\e -> (Slot (eThis e) (eThisBase e), eThisType e)) <$> env))
   CDeref e t -> do
-    Nothing <- implicit cx p "CHECKPOINTER"
-    Ex ptr <- expr cx e
-    sh <- shapeOf (cProg cx) t
-    let found = slotAtOf cx t
-    Just $ (sh,) $ Recv $ do
-      v <- ptr
-      case v of
-        VInt _ a | Just (o, TFB n) <- found a -> (\en -> (Slot (eStore en) o, key n)) <$> env
+    (sh, Target target) <- pointee cx p e t
+    Just $ (sh,) $ Recv $
+      target >>= \case
+        (pl, TFB n) -> pure (pl, key n)
         _ -> abort Bail
   r -> do
     (sh, Ref pl) <- ref cx p r
@@ -953,19 +967,9 @@ ref cx p = \case
     Record _ fs _ <- cThis cx
     (o, s) <- M.lookup k fs
     Just (s, Ref ((\e -> Slot (eThis e) (eThisBase e + o)) <$> env))
-  -- NX-TYPE-75: the variable of the pointer's base type at its address
   CDeref e t -> do
-    -- (CheckPointer, which is told whether the access writes, is the
-    -- readable evaluator's)
-    Nothing <- implicit cx p "CHECKPOINTER"
-    Ex ptr <- expr cx e
-    sh <- shapeOf (cProg cx) t
-    let found = slotAtOf cx t
-    Just $ (sh,) $ Ref $ do
-      v <- ptr
-      case v of
-        VInt _ a | Just (o, _) <- found a -> (\en -> Slot (eStore en) o) <$> env
-        _ -> abort Bail
+    (sh, Target target) <- pointee cx p e t
+    Just (sh, Ref (fst <$> target))
   _ -> Nothing
 
 -- | An expression, as the readable @eval@, through the same meaning
