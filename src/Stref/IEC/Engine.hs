@@ -115,10 +115,12 @@ runProgramWith ev observer traced pol file src choice cycle initial calls = do
     -- solo: how many cycles still to run one at a time (after a batch that
     -- left the fast evaluator's slice, its cycles are run one by one)
     let done m k err seen = Right (RunResult prog m err (k - 1), reverse seen)
+        -- the run's error is its first: a cycle's stop is kept only if none came before
+        firstError k stop err = maybe err (\s -> Just (maybe (k, s) id err)) stop
         go _ m k err seen [] = done m k err seen
         go solo m k err seen (Reset ev : rest) =
           let (m1, stop) = restart pol prog ev m
-           in go solo m1 k (maybe err (\s -> Just (maybe (k, s) id err)) stop) seen rest
+           in go solo m1 k (firstError k stop err) seen rest
         go solo m k err seen (Scan sets : rest) = do
           m1 <- foldM (setPath pol prog) m sets
           let (plain, later) = plainScans rest
@@ -128,7 +130,7 @@ runProgramWith ev observer traced pol file src choice cycle initial calls = do
               -- the batch ran cycles k .. k + ran - 1, the last one stopped if any did
               Just (m2, ran, stop) ->
                 let last' = k + ran - 1
-                    err' = maybe err (\s -> Just (maybe (last', s) id err)) stop
+                    err' = firstError last' stop err
                  in case err' `seq` stop of
                       Just _ | pAfterError pol == StopController -> Right (RunResult prog m2 err' last', reverse seen)
                       _ -> go 0 m2 (last' + 1) err' seen (drop (ran - 1) plain ++ later)
@@ -136,7 +138,7 @@ runProgramWith ev observer traced pol file src choice cycle initial calls = do
             _ -> one solo m1 k err seen rest
         one solo m1 k err seen rest = do
           let (m2, stop) = scan (toInteger (k - 1) * cycle) (traceCycle k m1)
-              err' = maybe err (\s -> Just (maybe (k, s) id err)) stop
+              err' = firstError k stop err
               -- nothing kept without an observer: a long run stays in constant memory
               seen' = maybe seen (\f -> (k, f prog m2) : seen) observer
           -- err' and seen' evaluated now: left as thunks, each would hold
