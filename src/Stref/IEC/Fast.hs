@@ -1,5 +1,6 @@
 {-# OPTIONS_GHC -O2 #-}
 -- (the fast path is worth optimising even in a --fast build, as Stref.Eval)
+{-# LANGUAGE MagicHash #-}
 {-# LANGUAGE RankNTypes #-}
 
 -- | A faster evaluator of IEC scan cycles, for a slice of the language,
@@ -28,16 +29,16 @@
 -- The slice: elementary types, strings and enumerations, pointers, arrays
 -- and structures of them, globals and program instance variables, standard
 -- FB instances, user FUNCTION_BLOCKs (with EXTENDS) and FUNCTIONs without
--- VAR_IN_OUT or edge inputs, methods (virtual and SUPER^ calls), THIS;
--- assignment, FB, function and method calls (with @=>@ outputs), IF, CASE,
--- FOR, WHILE, REPEAT, EXIT, RETURN, CONTINUE inside a loop, ADR and @^@ on
--- the globals and program instances. Not in it: located variables and
+-- VAR_IN_OUT or edge inputs, methods (virtual and SUPER^ calls), THIS, the
+-- implicit check functions but CheckPointer; assignment, FB, function and
+-- method calls (with @=>@ outputs), IF, CASE, FOR, WHILE, REPEAT, EXIT,
+-- RETURN, CONTINUE inside a loop, JMP and labels, ADR and @^@ on the
+-- globals and program instances. Not in it: located variables and
 -- VAR_CONFIG, pointers into a function's frame or a direct-address area,
--- references to characters and bits, implicit check functions, actions,
--- CODESYS's MUX and SEL (which evaluate only the selected input), chained
--- assignments, jumps, program calls. A machine of an unexpected shape, or
--- a pointer the slice does not follow, makes the cycle run in the readable
--- evaluator.
+-- references to characters and bits, CheckPointer, actions, CODESYS's MUX
+-- and SEL (which evaluate only the selected input), chained assignments,
+-- program calls. A machine of an unexpected shape, or a pointer the slice
+-- does not follow, makes the cycle run in the readable evaluator.
 --
 -- Pointers: an address is the readable evaluator's (the memory model of
 -- "Stref.IEC.Memory"): ADR finds the path of its slot from the root and
@@ -50,7 +51,11 @@ module Stref.IEC.Fast
   ) where
 
 import Control.Monad (ap, forM, forM_, join, liftM, when)
+import Control.Exception (Exception, throwIO, try)
 import Control.Monad.ST (ST, runST)
+import Control.Monad.ST.Unsafe (unsafeIOToST, unsafeSTToIO)
+import GHC.Exts (Int (I#))
+import GHC.Num (Integer (IS))
 import Data.Foldable (foldlM)
 import Data.List (find)
 import qualified Data.IntMap.Lazy as IM
@@ -66,6 +71,7 @@ import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, truncTo)
 import Stref.IEC.Eval
+import Stref.IEC.Fast.Operators (Binary (..), Store (..), binaryOn, storeOn)
 import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, unary, wrapUnder)
@@ -204,34 +210,45 @@ data Env s = Env
 -- not expect (the cycle then runs in the readable evaluator).
 data Abort = Faulted !Pos !Fault | Bail
 
-newtype M s a = M {unM :: Env s -> ST s (Either Abort a)}
+-- | An abort travels as an exception inside the cycle's 'ST' run (which
+-- 'fastCycles' catches), so that the closures pass plain values and no
+-- 'Either' is built at every step.
+newtype Aborted = Aborted Abort
+
+instance Show Aborted where
+  show _ = "Stref.IEC.Fast: an aborted cycle"
+
+instance Exception Aborted
+
+newtype M s a = M {unM :: Env s -> ST s a}
 
 instance Functor (M s) where
   fmap = liftM
 
 instance Applicative (M s) where
-  pure x = M (\_ -> pure (Right x))
+  pure x = M (\_ -> pure x)
   (<*>) = ap
 
 instance Monad (M s) where
-  M m >>= k = M $ \e ->
-    m e >>= \case
-      Right x -> unM (k x) e
-      Left a -> pure (Left a)
+  M m >>= k = M $ \e -> m e >>= \x -> unM (k x) e
   {-# INLINE (>>=) #-}
 
 st :: ST s a -> M s a
-st act = M (\_ -> Right <$> act)
+st act = M (const act)
 {-# INLINE st #-}
 
 env :: M s (Env s)
-env = M (pure . Right)
+env = M pure
 
 within :: (Env s -> Env s) -> M s a -> M s a
 within f (M m) = M (m . f)
 
 abort :: Abort -> M s a
-abort a = M (\_ -> pure (Left a))
+abort a = M (\_ -> unsafeIOToST (throwIO (Aborted a)))
+
+-- | Run closures; Left where they aborted.
+attempt :: M s a -> Env s -> ST s (Either Abort a)
+attempt (M m) e = unsafeIOToST (either (\(Aborted a) -> Left a) Right <$> try (unsafeSTToIO (m e)))
 
 orFault :: Pos -> Either Fault a -> M s a
 orFault p = \case
@@ -244,8 +261,8 @@ tick :: Policies -> Int -> Pos -> M s ()
 tick pol budget p = M $ \e -> do
   n <- MU.read (eSteps e) 0
   if n >= budget
-    then pure (Left (Faulted p (watchdogFault pol budget)))
-    else Right () <$ MU.write (eSteps e) 0 (n + 1)
+    then unM (abort (Faulted p (watchdogFault pol budget))) e
+    else MU.write (eSteps e) 0 (n + 1)
 
 -- | The checks every call makes (@call-depth@).
 deeper :: Policies -> Pos -> M s ()
@@ -255,8 +272,8 @@ deeper pol p = do
 
 -- | A store into a target of a declared type (the readable @fitValue@
 -- without check functions, which the slice leaves out).
-fit :: Policies -> Pos -> Type -> Value -> M s Value
-fit pol p t v = case fst (fitWhy pol t v) of
+fit :: Store -> Pos -> Value -> M s Value
+fit (Store store) p v = case store v of
   Right x -> x `seq` pure x
   Left f -> abort (Faulted p f)
 
@@ -278,7 +295,13 @@ newtype Ref = Ref (forall s. M s (Place s))
 
 readPlace :: Shape -> Place s -> M s Value
 readPlace sh = \case
-  Slot v o -> st (build v o sh)
+  Slot v o | not (isLeaf sh) -> st (build v o sh)
+  pl -> readLeaf pl
+
+-- | 'readPlace' of an elementary value.
+readLeaf :: Place s -> M s Value
+readLeaf = \case
+  Slot v o -> st (MV.read v o)
   -- a missing variable reads as the readable getPath's default
   InFB v o k -> st (MV.read v o) >>= \case
     VInstance _ m -> pure (M.findWithDefault (VBool False) k m)
@@ -418,8 +441,9 @@ newtype Invoke = Invoke (forall s. Place s -> Text -> [Value] -> M s Value)
 -- (THIS of a method).
 newtype Framed = Framed (forall s. (Env s -> Env s) -> [Value] -> M s Value)
 
--- | How a statement ended: on to the next, or EXIT, RETURN, CONTINUE.
-data Flow = Next | Exited | Returned | Continued
+-- | How a statement ended: on to the next, or EXIT, RETURN, CONTINUE, a
+-- JMP to a label (upper case).
+data Flow = Next | Exited | Returned | Continued | Jumped !Text
 
 -- | The readable evaluator's @runCycle@ for programs of the slice.
 fastCycle :: Policies -> Program -> Maybe (Integer -> Machine -> (Machine, Maybe Stop))
@@ -483,7 +507,7 @@ fastCycles pol prog = do
                   c : later -> do
                     MU.write steps 0 0
                     writeSTRef frames []
-                    r <- unM (mapM_ (\(Body' b) -> b) runs) (Env store store 0 store 0 "" 0 steps frames c)
+                    r <- attempt (mapM_ (\(Body' b) -> b) runs) (Env store store 0 store 0 "" 0 steps frames c)
                     case r of
                       Left Bail -> pure (Left ())
                       Left (Faulted p f) -> pure (Right (ran + 1, c, Just (StopFault p f)))
@@ -537,7 +561,9 @@ translateOn cx this d = do
     forM_ temps $ \(o, s, x) -> writePlace s (Slot (eSelf e) (eBase e + o)) x
     body
 
--- | A block: its statements in turn, until one ends it.
+-- | A block: its statements in turn, until one ends it; a JMP to one of
+-- its labels (from it or from a block inside it) goes on from that label
+-- (NX-STMT-42), as the readable @execBlock@.
 block :: Cx -> [CStmt] -> Maybe St
 block cx ss = do
   sts <- mapM (stmt cx) ss
@@ -545,7 +571,12 @@ block cx ss = do
       go (St s : rest) = s >>= \case
         Next -> go rest
         fl -> pure fl
-  Just (St (go sts))
+      -- each label's first place, the rest of the block from it
+      labels = M.fromListWith (\_ first -> first) [(l, drop i sts) | (i, CLabel _ l) <- zip [0 ..] ss]
+      run xs = go xs >>= \case
+        Jumped l | Just rest <- M.lookup l labels -> run rest
+        fl -> pure fl
+  Just (St (if M.null labels then go sts else run sts))
 
 -- | A loop's body: Nothing when EXIT left the loop (TC-STMT-36, TC-STMT-37).
 loopBody :: St -> M s (Maybe Flow)
@@ -559,15 +590,28 @@ stmt cx = \case
   CAssign p r t e -> do
     -- TC-STMT-7: the value, then the target
     Ex v <- expr cx e
-    (sh, Ref target) <- ref cx p r
+    (sh, w) <- whereIs cx p r
     writable sh t (ceType e)
     Fitter fitted <- fitter cx p t
-    Just $ St $ do
-      tk p
-      x <- v
-      pl <- target
-      x' <- fitted x
-      Next <$ writePlace sh pl x'
+    Just $ St $ case (sh, w) of
+      -- an elementary value at an offset known or computed: no Place built
+      (Leaf, Fixed b o) -> do
+        tk p
+        x <- v
+        x' <- fitted x
+        Next <$ M (\e -> atBase b e o (\vec i -> MV.write vec i $! x'))
+      (Leaf, Computed b (Offset off)) -> do
+        tk p
+        x <- v
+        o <- off
+        x' <- fitted x
+        Next <$ M (\e -> atBase b e o (\vec i -> MV.write vec i $! x'))
+      _ | Ref target <- placeOf w -> do
+        tk p
+        x <- v
+        pl <- target
+        x' <- fitted x
+        Next <$ writePlace sh pl x'
   CCallFB p c -> do
     St call <- callFB cx p c
     Just (St (tk p >> call))
@@ -620,6 +664,8 @@ stmt cx = \case
   CExit p -> Just (St (Exited <$ tk p))
   CReturn p -> Just (St (Returned <$ tk p))
   CContinue p | cLoop cx -> Just (St (Continued <$ tk p)) -- NX-STMT-35
+  CJump p l -> Just (St (Jumped l <$ tk p)) -- NX-STMT-42
+  CLabel _ _ -> Just (St (pure Next))
   _ -> Nothing
   where
     pol = cPol cx
@@ -636,10 +682,10 @@ fitter cx p t = case t of
       v <- case (check, v0) of
         (Just (Checker call), VInt e' n0) -> VInt e' . intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
         _ -> pure v0
-      fit pol p t v
-  _ -> Just (Fitter (fit pol p t))
+      fit store p v
+  _ -> Just (Fitter (fit store p))
   where
-    pol = cPol cx
+    !store = storeOn (cPol cx) t
 
 -- | An implicit check function (NX-ERR-1..20) as the readable
 -- @implicitCheck@ calls it: when the program declares it and this code is
@@ -925,19 +971,60 @@ receiver cx p = \case
 -- | Where a reference lies, as the readable @refPath@: indices evaluated,
 -- then checked in turn (policy @index-out-of-range@).
 ref :: Cx -> Pos -> CRef -> Maybe (Shape, Ref)
-ref cx p = \case
+ref cx p r = (\(sh, w) -> (sh, placeOf w)) <$> whereIs cx p r
+
+-- | Where a reference lies, as far as the translation can tell: at an
+-- offset from the start of the store's slots, of the running POU's or of
+-- THIS's, fixed or computed when the code runs (the indices); or anywhere
+-- (a pointer's target, a standard FB's variable in its map). The first
+-- two are read and written without building a 'Place'.
+data Where = Fixed !Base !Int | Computed !Base !Offset | Anywhere !Ref
+
+data Base = InStore | InSelf | InThis
+
+newtype Offset = Offset (forall s. M s Int)
+
+-- | The slots and the index of the slot at an offset from a base.
+atBase :: Base -> Env s -> Int -> (MV.MVector s Value -> Int -> r) -> r
+atBase b e o k = case b of
+  InStore -> k (eStore e) o
+  InSelf -> k (eSelf e) (eBase e + o)
+  InThis -> k (eThis e) (eThisBase e + o)
+{-# INLINE atBase #-}
+
+slotOf :: Base -> Env s -> Int -> Place s
+slotOf b e o = atBase b e o Slot
+
+placeOf :: Where -> Ref
+placeOf = \case
+  Fixed b o -> Ref (M (\e -> pure (slotOf b e o)))
+  Computed b (Offset off) -> Ref (off >>= \o -> M (\e -> pure (slotOf b e o)))
+  Anywhere r -> r
+
+-- | A read of an elementary value.
+readAt :: Where -> Ex
+readAt = \case
+  Fixed b o -> Ex (M (\e -> atBase b e o MV.read))
+  Computed b (Offset off) -> Ex (off >>= \o -> M (\e -> atBase b e o MV.read))
+  Anywhere (Ref pl) -> Ex (pl >>= readLeaf)
+
+whereIs :: Cx -> Pos -> CRef -> Maybe (Shape, Where)
+whereIs cx p = \case
   CLocal k -> do
     (o, s) <- M.lookup k (cSelf cx)
-    Just (s, Ref ((\e -> Slot (eSelf e) (eBase e + o)) <$> env))
+    Just (s, Fixed InSelf o)
   CGlobal k -> do
     (o, s) <- M.lookup k (cGlobals cx)
-    Just (s, Ref ((\e -> Slot (eStore e) o) <$> env))
+    Just (s, Fixed InStore o)
   CField r f -> do
-    (sh, Ref base) <- ref cx p r
-    (o, s) <- member sh f
-    Just (s, Ref ((`at` o) <$> base))
+    (sh, w) <- whereIs cx p r
+    (m, s) <- member sh f
+    Just $ (s,) $ case (w, m) of
+      (Fixed b o, Right o') -> Fixed b (o + o')
+      (Computed b (Offset off), Right o') -> Computed b (Offset ((+ o') <$> off))
+      _ | Ref base <- placeOf w -> Anywhere (Ref ((`at` m) <$> base))
   CIndex r ixs -> do
-    (Array bs e esz _, Ref base) <- ref cx p r
+    (Array bs e esz _, w) <- whereIs cx p r
     when (length ixs /= length bs) Nothing
     is <- mapM (expr cx) ixs
     -- NX-ERR-5..8: CheckBounds' result is the index
@@ -946,30 +1033,46 @@ ref cx p = \case
         bounded n0 (lo, hi) = case check of
           Just (Checker call) -> intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
           Nothing -> pure n0
-    Just $ (e,) $ Ref $ do
-      pl <- base
-      vs <- mapM (\(Ex i) -> i) is
-      ns <- forM vs $ \case
-        VInt _ n -> pure n
-        _ -> abort Bail
-      checked <- forM (zip ns bs) $ \(n0, b) -> bounded n0 b >>= \n -> orFault p (fst (indexWhy pol b n))
-      -- TC-TYPE-43: the rightmost index varies fastest
-      let linear = foldl (\acc ((lo, hi), i) -> acc * (hi - lo + 1) + (i - lo)) 0 (zip bs checked)
-      case pl of
-        Slot v o -> pure (Slot v (o + fromInteger linear * esz))
-        InFB {} -> abort Bail
+        -- the offset of the element from the array's start
+        Offset element = case (is, bs, check) of
+          -- one index within the bounds: no policy applies
+          ([Ex i], [b@(lo, hi)], Nothing) ->
+            let lo' = fromInteger lo :: Int
+                hi' = fromInteger hi :: Int
+             in Offset $ i >>= \case
+                  VInt _ (IS x) | lo' <= I# x && I# x <= hi' -> pure ((I# x - lo') * esz)
+                  VInt _ n -> (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b n))
+                  _ -> abort Bail
+          _ -> Offset $ do
+            vs <- mapM (\(Ex i) -> i) is
+            ns <- forM vs $ \case
+              VInt _ n -> pure n
+              _ -> abort Bail
+            checked <- forM (zip ns bs) $ \(n0, b) -> bounded n0 b >>= \n -> orFault p (fst (indexWhy pol b n))
+            -- TC-TYPE-43: the rightmost index varies fastest
+            pure (fromInteger (foldl (\acc ((lo, hi), x) -> acc * (hi - lo + 1) + (x - lo)) 0 (zip bs checked)) * esz)
+    -- the array's place first, then the indices
+    Just $ (e,) $ case w of
+      Fixed b o -> Computed b (Offset ((o +) <$> element))
+      Computed b (Offset off) -> Computed b (Offset (off >>= \o -> (o +) <$> element))
+      Anywhere (Ref base) -> Anywhere $ Ref $ do
+        pl <- base
+        o' <- element
+        case pl of
+          Slot v o -> pure (Slot v (o + o'))
+          InFB {} -> abort Bail
   -- NX-POU-28: THIS^, the instance the code runs on
   CThis -> do
     sh <- cThis cx
-    Just (sh, Ref ((\e -> Slot (eThis e) (eThisBase e)) <$> env))
+    Just (sh, Fixed InThis 0)
   -- NX-POU-27: a variable of the instance, inside one of its methods
   CInstance k -> do
     Record _ fs _ <- cThis cx
     (o, s) <- M.lookup k fs
-    Just (s, Ref ((\e -> Slot (eThis e) (eThisBase e + o)) <$> env))
+    Just (s, Fixed InThis o)
   CDeref e t -> do
     (sh, Target target) <- pointee cx p e t
-    Just (sh, Ref (fst <$> target))
+    Just (sh, Anywhere (Ref (fst <$> target)))
   _ -> Nothing
 
 -- | An expression, as the readable @eval@, through the same meaning
@@ -978,8 +1081,11 @@ expr :: Cx -> CExpr -> Maybe Ex
 expr cx ce = case ceNode ce of
   CConst v -> Just (Ex (pure v))
   CRead r -> do
-    (sh, Ref pl) <- ref cx pos r
-    if isData sh then Just (Ex (pl >>= readPlace sh)) else Nothing
+    (sh, w) <- whereIs cx pos r
+    case sh of
+      Leaf -> Just (readAt w)
+      _ | isData sh, Ref pl <- placeOf w -> Just (Ex (pl >>= readPlace sh))
+      _ -> Nothing
   CUnary o a -> do
     Ex x <- expr cx a
     Just (Ex (x >>= orFault pos . unary pol o))
@@ -987,6 +1093,7 @@ expr cx ce = case ceNode ce of
     Ex x <- expr cx a
     Ex y0 <- expr cx b
     -- NX-ERR-11..13: CheckDiv*'s result is the divisor
+    let Binary operator = binaryOn pol o (ceType a) (ceType b)
     check <- case (o, baseElem (ceType b) >>= checkDivName) of
       (BDiv, Just name) -> implicit cx pos name
       _ -> Just Nothing
@@ -999,7 +1106,7 @@ expr cx ce = case ceNode ce of
       case (o, u, pShortCircuit pol) of
         (BAnd, VBool False, ShortCircuit) -> pure u
         (BOr, VBool True, ShortCircuit) -> pure u
-        _ -> y >>= orFault pos . binary pol o u
+        _ -> y >>= orFault pos . operator u
   -- NX-CONV-35: TRUNC into another integer type
   CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [a])) | isInt e -> do
     Ex x <- expr cx a

@@ -1,0 +1,115 @@
+{-# OPTIONS_GHC -O2 #-}
+{-# LANGUAGE MagicHash #-}
+
+-- | The operators and stores of "Stref.IEC.Fast" for integers of at most
+-- 32 bits, with exactly the results of the readable ones ('binary' of
+-- "Stref.IEC.Operators", 'fitWhy' of "Stref.IEC.Eval"), which stay the
+-- definition: test/IEC/FastOperatorsSpec.hs checks the equality on random
+-- values under every policy alternative.
+--
+-- Each function looks at the policies, the operator and the operands'
+-- types once, when the program is translated, and returns the rest as a
+-- closure in a strict constructor (which keeps GHC from moving that
+-- analysis back into the closure). The closure computes on 'Int' only
+-- where the outcome needs no policy: an exact result of + - * DIV MOD that
+-- lies in the type's range is the result under every overflow policy
+-- (TC-OP-20), a comparison is its truth, a bitwise operator its bits.
+-- Anything else, and any operand of another form, goes to the readable
+-- function.
+module Stref.IEC.Fast.Operators
+  ( Binary (..)
+  , binaryOn
+  , Store (..)
+  , storeOn
+  ) where
+
+import Data.Bits (xor, (.&.), (.|.))
+import GHC.Exts (Int (I#))
+import GHC.Num (Integer (IS))
+import Stref.IEC.Eval (fitWhy)
+import Stref.IEC.Operators (binary, rangeUnder)
+import Stref.IEC.Syntax (BinOp (..))
+import Stref.IEC.Types
+import Stref.IEC.Values
+import Stref.Policy
+
+-- | A binary operator on two values.
+newtype Binary = Binary (Value -> Value -> Either Fault Value)
+
+-- | A store into a target of a declared type: the value it keeps.
+newtype Store = Store (Value -> Either Fault Value)
+
+-- | 'binary' for operands of these types.
+binaryOn :: Policies -> BinOp -> Type -> Type -> Binary
+binaryOn p op ta tb = case (strip ta, strip tb) of
+  (TElem e, TElem e') | e == e', isInt e, intBits e <= 32 -> small e
+  _ -> Binary (binary p op)
+  where
+    strip = \case
+      TSubrange e _ _ -> TElem e
+      t -> t
+    small e =
+      let (lo, hi) = rangeUnder p e
+          !lo' = fromInteger lo :: Int
+          !hi' = fromInteger hi :: Int
+          -- both operands of the type, each a small Integer; else the
+          -- readable operator
+          on f = Binary $ \a b -> case (a, b) of
+            (VInt ea (IS x), VInt eb (IS y)) | ea == e, eb == e -> f (I# x) (I# y) a b
+            _ -> binary p op a b
+          {-# INLINE on #-}
+          -- TC-OP-20: an exact result within the range is kept
+          exact g = on $ \x y a b ->
+            let n = g x y
+             in if lo' <= n && n <= hi' then Right (VInt e (toInteger n)) else binary p op a b
+          {-# INLINE exact #-}
+          -- TC-OP-21, TC-OP-23: truncation toward zero, the dividend's
+          -- sign; a zero divisor is the policies'
+          dividing g = on $ \x y a b ->
+            if y == 0
+              then binary p op a b
+              else
+                let n = g x y
+                 in if lo' <= n && n <= hi' then Right (VInt e (toInteger n)) else binary p op a b
+          {-# INLINE dividing #-}
+          compared g = on (\x y _ _ -> Right (VBool (g x y)))
+          bitwise g = on (\x y _ _ -> Right (VInt e (toInteger (g x y))))
+       in case op of
+            BAdd -> exact (+)
+            BSub -> exact (-)
+            BMul -> exact (*)
+            BDiv | pModSign p == ModSignDividend -> dividing quot
+            BMod | pModSign p == ModSignDividend -> dividing rem
+            BLt -> compared (<)
+            BGt -> compared (>)
+            BLe -> compared (<=)
+            BGe -> compared (>=)
+            BEq -> compared (==)
+            BNe -> compared (/=)
+            -- TC-OP-39: bit by bit (two's complement, as Integer's)
+            BAnd -> bitwise (.&.)
+            BOr -> bitwise (.|.)
+            BXor -> bitwise xor
+            _ -> Binary (binary p op)
+
+-- | 'fitWhy's value for a target of this type.
+storeOn :: Policies -> Type -> Store
+storeOn pol t = case t of
+  TElem e
+    | isInt e, intBits e <= 32 ->
+        let (lo, hi) = intRange e
+            !lo' = fromInteger lo :: Int
+            !hi' = fromInteger hi :: Int
+         in Store $ \case
+              v@(VInt _ (IS n)) | lo' <= I# n && I# n <= hi' -> Right v
+              v -> reference v
+    | isInt e -> Store reference
+    -- the other elementary types store any value as it is
+    | otherwise -> Store Right
+  TString {} -> Store reference
+  TSubrange {} -> Store reference
+  TArray {} -> Store reference
+  TStruct {} -> Store reference
+  _ -> Store Right
+  where
+    reference = fst . fitWhy pol t
