@@ -1,11 +1,13 @@
--- | The fast evaluator's operators and stores (Stref.IEC.Fast.Operators)
--- against the readable ones ('binary', 'fitWhy'): on random operators,
+-- | The fast evaluator's operators, stores and conversions
+-- (Stref.IEC.Fast.Operators) against the readable ones ('binary', 'fitWhy',
+-- 'convert'): on random operators,
 -- types, values (in and out of their type's range, of the type or of
 -- another) and policies, each gives the readable one's outcome (compared
 -- as shown, so that a NaN equals itself). The
 -- expected outcome is always the readable function's.
 module IEC.FastOperatorsSpec (spec) where
 
+import Stref.IEC.Conversions (convert)
 import Stref.IEC.Eval (fitWhy)
 import Stref.IEC.Fast.Operators
 import Stref.IEC.Operators (binary)
@@ -76,6 +78,12 @@ spec = describe "IEC.Fast.Operators: the fast evaluator's operators against the 
         forAll (valueFor t) $ \v ->
           let Store f = storeOn pol t
            in counterexample (show (t, v)) (show (f v) === show (fst (fitWhy pol t v)))
+  it "convertOn gives convert's outcome" $
+    withMaxSuccess 20000 . forAll policies $ \pol ->
+      forAll ((,) <$> types <*> types) $ \(from, to) ->
+        forAll (valueFor from) $ \v ->
+          let Convert f = convertOn pol from to
+           in counterexample (show (from, to, v)) (show (f v) === show (convert pol from to v))
   it "computes on the machine's integers where it can, and gives the policies' outcome where the result leaves the type" $ do
     let Binary add = binaryOn tecomat BAdd (TElem INT) (TElem INT)
     add (VInt INT 2) (VInt INT 3) `shouldBe` Right (VInt INT 5)

@@ -69,9 +69,9 @@ import qualified Data.Vector as V
 import qualified Data.Vector.Mutable as MV
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
-import Stref.IEC.Conversions (convert, truncTo)
+import Stref.IEC.Conversions (truncTo)
 import Stref.IEC.Eval
-import Stref.IEC.Fast.Operators (Binary (..), Store (..), binaryOn, storeOn)
+import Stref.IEC.Fast.Operators (Binary (..), Convert (..), Store (..), binaryOn, convertOn, storeOn)
 import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, unary, wrapUnder)
@@ -259,10 +259,10 @@ orFault p = \case
 -- (TC-ERR-1), at the same places.
 tick :: Policies -> Int -> Pos -> M s ()
 tick pol budget p = M $ \e -> do
-  n <- MU.read (eSteps e) 0
+  n <- MU.unsafeRead (eSteps e) 0
   if n >= budget
     then unM (abort (Faulted p (watchdogFault pol budget))) e
-    else MU.write (eSteps e) 0 (n + 1)
+    else MU.unsafeWrite (eSteps e) 0 (n + 1)
 
 -- | The checks every call makes (@call-depth@).
 deeper :: Policies -> Pos -> M s ()
@@ -1037,8 +1037,8 @@ whereIs cx p = \case
         Offset element = case (is, bs, check) of
           -- one index within the bounds: no policy applies
           ([Ex i], [b@(lo, hi)], Nothing) ->
-            let lo' = fromInteger lo :: Int
-                hi' = fromInteger hi :: Int
+            let !lo' = fromInteger lo :: Int
+                !hi' = fromInteger hi :: Int
              in Offset $ i >>= \case
                   VInt _ (IS x) | lo' <= I# x && I# x <= hi' -> pure ((I# x - lo') * esz)
                   VInt _ n -> (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b n))
@@ -1113,7 +1113,8 @@ expr cx ce = case ceNode ce of
     Just (Ex (x >>= orFault pos . truncTo pol e))
   CConvert t a -> do
     Ex x <- expr cx a
-    Just (Ex (x >>= orFault pos . convert pol (ceType a) t))
+    let Convert conversion = convertOn pol (ceType a) t
+    Just (Ex (x >>= orFault pos . conversion))
   -- NX-OP-87: TIME(), the clock in TIME's 32 bits
   CStandard f [] | f == timeFunction -> Just (Ex (VTime TIME . wrapUnder pol TIME . eClock <$> env))
   -- NX-OP-62, NX-OP-67: CODESYS evaluates only the selected input

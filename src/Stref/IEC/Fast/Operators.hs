@@ -21,11 +21,17 @@ module Stref.IEC.Fast.Operators
   , binaryOn
   , Store (..)
   , storeOn
+  , Convert (..)
+  , convertOn
+  , true
+  , false
+  , boolValue
   ) where
 
 import Data.Bits (xor, (.&.), (.|.))
 import GHC.Exts (Int (I#))
 import GHC.Num (Integer (IS))
+import Stref.IEC.Conversions (convert)
 import Stref.IEC.Eval (fitWhy)
 import Stref.IEC.Operators (binary, rangeUnder)
 import Stref.IEC.Syntax (BinOp (..))
@@ -72,7 +78,7 @@ binaryOn p op ta tb = case (strip ta, strip tb) of
                 let n = g x y
                  in if lo' <= n && n <= hi' then Right (VInt e (toInteger n)) else binary p op a b
           {-# INLINE dividing #-}
-          compared g = on (\x y _ _ -> Right (VBool (g x y)))
+          compared g = on (\x y _ _ -> Right (boolValue (g x y)))
           bitwise g = on (\x y _ _ -> Right (VInt e (toInteger (g x y))))
        in case op of
             BAdd -> exact (+)
@@ -113,3 +119,34 @@ storeOn pol t = case t of
   _ -> Store Right
   where
     reference = fst . fitWhy pol t
+
+-- | A conversion from a type to another.
+newtype Convert = Convert (Value -> Either Fault Value)
+
+-- | 'convert' from this type to that: an integer to an integer type whose
+-- range holds it is the same number (no policy applies).
+convertOn :: Policies -> Type -> Type -> Convert
+convertOn pol from to = case (from, to) of
+  (TElem x, TElem y)
+    | isInt x, isInt y, intBits y <= 32 ->
+        let (lo, hi) = rangeUnder pol y
+            !lo' = fromInteger lo :: Int
+            !hi' = fromInteger hi :: Int
+         in Convert $ \case
+              VInt _ n@(IS i) | lo' <= I# i && I# i <= hi' -> Right (VInt y n)
+              v -> reference v
+  _ -> Convert reference
+  where
+    reference = convert pol from to
+
+-- | The two values of BOOL, built once (a comparison's result is one of
+-- them, not a new value).
+true, false :: Value
+true = VBool True
+false = VBool False
+{-# NOINLINE true #-}
+{-# NOINLINE false #-}
+
+boolValue :: Bool -> Value
+boolValue b = if b then true else false
+{-# INLINE boolValue #-}

@@ -18,6 +18,7 @@ import Control.Monad.ST (ST)
 import Data.Text (Text)
 import qualified Data.Vector.Mutable as MV
 import Stref.IEC.Checked (key)
+import Stref.IEC.Fast.Operators (boolValue)
 import Stref.IEC.StandardFB (downQ, libraryNames, pvMax, pvMin)
 import Stref.IEC.Types
 import Stref.IEC.Values
@@ -229,7 +230,7 @@ int (Inst v b) o =
     _ -> pure 0
 
 setB :: Inst s -> Int -> Bool -> ST s ()
-setB (Inst v b) o x = MV.write v (b + o) (VBool x)
+setB (Inst v b) o x = MV.write v (b + o) (boolValue x)
 
 setI :: Inst s -> Elem -> Int -> Integer -> ST s ()
 setI (Inst v b) e o n = MV.write v (b + o) $! VInt e n
