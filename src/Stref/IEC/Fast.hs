@@ -400,6 +400,8 @@ slotAt cx a t = do
   -- derived from it
   case (found, t) of
     (TFB n, TFB m) | not (derivedFrom (cProg cx) n m) -> Nothing
+    -- an FB's type by its key, which a virtual call dispatches on
+    (TFB n, _) -> Just (start + o, TFB (key n))
     _ -> Just (start + o, found)
 
 -- | 'slotAt' for one type, remembered for the addresses of the store's
@@ -959,7 +961,7 @@ receiver cx p = \case
     (sh, Target target) <- pointee cx p e t
     Just $ (sh,) $ Recv $
       target >>= \case
-        (pl, TFB n) -> pure (pl, key n)
+        (pl, TFB k) -> pure (pl, k)
         _ -> abort Bail
   r -> do
     (sh, Ref pl) <- ref cx p r
@@ -1106,7 +1108,7 @@ expr cx ce = case ceNode ce of
       case (o, u, pShortCircuit pol) of
         (BAnd, VBool False, ShortCircuit) -> pure u
         (BOr, VBool True, ShortCircuit) -> pure u
-        _ -> y >>= orFault pos . operator u
+        _ -> y >>= \v -> orFault pos (operator u v)
   -- NX-CONV-35: TRUNC into another integer type
   CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [a])) | isInt e -> do
     Ex x <- expr cx a
