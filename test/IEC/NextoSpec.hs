@@ -239,6 +239,15 @@ spec = describe "the nexto dialect" $ do
       runMain nexto body 1 "y" `shouldBe` Right (VInt INT 30)
     it "dereferencing 0 is null-pointer" $
       errorOf nexto "VAR p : POINTER TO INT; x : INT; END_VAR x := p^;" 1 `shouldBe` Just (1, "null-pointer")
+    it "where no variable of its type starts, a pointer reads and writes the bytes at its address as its type (NX-TYPE-75)" $ do
+      let body = "VAR a : ARRAY [0..1] OF INT := [16#0102, 16#0304]; p : POINTER TO INT; x : INT; END_VAR p := ADR(a[0]); x := (p + 1)^; p := p + 1; p^ := 16#7F7F;"
+      runMain nexto body 1 "x" `shouldBe` Right (VInt INT 0x0401)
+      runMain nexto body 1 "a[0]" `shouldBe` Right (VInt INT 0x7F02)
+      runMain nexto body 1 "a[1]" `shouldBe` Right (VInt INT 0x037F)
+      let longer = "VAR a : ARRAY [1..4] OF INT := [1, 2, 3, 4]; more : ARRAY [0..15] OF INT; p : POINTER TO ARRAY [0..7] OF INT; x : INT; END_VAR p := ADR(a[3]); x := p^[1];"
+      runMain nexto longer 1 "x" `shouldBe` Right (VInt INT 4)
+    it "a pointer whose target's bytes reach beyond every variable is null-pointer (NX-ERR-21)" $
+      errorOf nexto "VAR p : POINTER TO ARRAY [0..30000] OF INT; x : INT; END_VAR p := ADR(x); x := p^[0];" 1 `shouldBe` Just (1, "null-pointer")
     it "CheckBounds' result is the index used (NX-ERR-7)" $ do
       let src = "FUNCTION CheckBounds : DINT\nVAR_INPUT index, lower, upper : DINT; END_VAR\nIF index > upper THEN CheckBounds := upper; ELSE CheckBounds := index; END_IF\nEND_FUNCTION\nPROGRAM MAIN\nVAR a : ARRAY [0..7] OF BOOL; b : INT := 10; END_VAR\na[b] := TRUE;\nEND_PROGRAM\n"
       runUnit nexto src 1 "MAIN.a[7]" `shouldBe` Right (VBool True)

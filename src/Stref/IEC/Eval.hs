@@ -37,7 +37,7 @@ module Stref.IEC.Eval
   , forIncrement
   ) where
 
-import Control.Monad (forM, forM_, unless, when)
+import Control.Monad (forM, forM_, guard, unless, when)
 import Control.Monad.Except (ExceptT, catchError, runExceptT, throwError)
 import Control.Monad.Reader (ReaderT, ask, asks, local, runReaderT)
 import Control.Monad.State.Strict (State, gets, modify', runState)
@@ -50,11 +50,12 @@ import Data.Maybe (fromMaybe, isJust)
 import qualified Data.Sequence as Seq
 import Data.Text (Text)
 import qualified Data.Text as T
+import Data.Word (Word8)
 import Numeric (showHex)
 import GHC.Float (float2Double, castDoubleToWord64, castFloatToWord32, castWord32ToFloat, castWord64ToDouble)
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (convert, isConversionName, truncTo)
-import Stref.IEC.Memory (Layout (..), layout, remembering, areaAt, areaBase, decode, encode, frameBase, globalsBase, locate, offsetOf, placeAll, programsBase, setUnionMember, sizeInBytes, unionMember)
+import Stref.IEC.Memory (Layout (..), layout, remembering, areaAt, areaBase, decode, encode, frameBase, globalsBase, leafAt, locate, offsetOf, placeAll, plainData, programsBase, setUnionMember, sizeInBytes, unionMember)
 import Stref.IEC.Operators (binary, binaryOverflows, binaryWhy, unary, unaryOverflows, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
 import Stref.IEC.Syntax (AssignOp (..), BinOp (..), binOpSymbol, EdgeQualifier (..), Location (..), Pos (..), PouKind (..), Section (..), byteSized)
@@ -345,6 +346,7 @@ pathName names (RefPath root steps) = case root of
   RootGlobal k -> named k <> T.concat (map stepText steps)
   RootLocated t -> t <> T.concat (map stepText steps)
   RootBytes area a _ -> "%" <> T.singleton area <> "B" <> T.pack (show a) <> T.concat (map stepText steps)
+  RootAt a _ -> "16#" <> T.pack (showHex a "") <> "^" <> T.concat (map stepText steps)
   RootProgram k | null steps -> k
   _ -> T.drop 1 (T.concat (map stepText steps))
   where
@@ -1010,7 +1012,18 @@ refPath p = \case
       VInt _ 0 -> fault p (Fault "null-pointer" "the pointer is 0: it points at no variable")
       VInt _ a -> do
         found <- variableAt a t
-        maybe (fault p (Fault "null-pointer" ("no variable of type " <> typeText t <> " lies at the address 16#" <> T.pack (showHex a "")))) pure found
+        case found of
+          Just path -> pure path
+          Nothing -> do
+            -- NX-TYPE-75: the value stored at the address, read as the
+            -- pointer's type from the variables whose bytes lie there
+            -- (an array of other bounds element by element); a type with
+            -- an FB in it needs an instance there (docs/nexto.md)
+            mm <- asks cxMemory
+            inside <- gets (\m -> covered mm m a (sizeInBytes ly t))
+            if plainData t && inside
+              then pure (RefPath (RootAt a t) [])
+              else fault p (Fault "null-pointer" ("no variable of type " <> typeText t <> " lies at the address 16#" <> T.pack (showHex a "")))
       _ -> fault p (Fault "null-pointer" "not an address")
   CCharAt w r i -> do
     base <- refPath p r
@@ -1123,21 +1136,97 @@ fitWhy pol t v = case (t, v) of
       TStruct _ fs -> any (holdsSubrange . snd) fs
       _ -> False
 
-rootValue :: Layout -> Root -> Machine -> Maybe Value
-rootValue ly r m = case r of
+rootValue :: MemoryMap -> Root -> Machine -> Maybe Value
+rootValue mm r m = case r of
   RootGlobal k -> M.lookup k (mGlobals m)
   RootProgram k -> M.lookup k (mPrograms m)
   RootFrame d -> M.lookup d (mFrames m)
   RootLocated _ -> Nothing
   RootBytes area a t -> Just (decode ly t [fromInteger (M.findWithDefault 0 (area, a + i) (mMemory m)) | i <- [0 .. sizeInBytes ly t - 1]])
+  RootAt a t -> Just (decode ly t (bytesAt mm m a (sizeInBytes ly t)))
+  where
+    ly = mmLayout mm
 
-setRoot :: Layout -> Root -> Value -> Machine -> Machine
-setRoot ly r v m = case r of
+setRoot :: MemoryMap -> Root -> Value -> Machine -> Machine
+setRoot mm r v m = case r of
   RootGlobal k -> m {mGlobals = M.insert k v (mGlobals m)}
   RootProgram k -> m {mPrograms = M.insert k v (mPrograms m)}
   RootFrame d -> m {mFrames = M.insert d v (mFrames m)}
   RootLocated _ -> m
   RootBytes area a t -> m {mMemory = foldl (\mem (i, byte) -> M.insert (area, a + i) (toInteger byte) mem) (mMemory m) (zip [0 ..] (encode ly t v))}
+  RootAt a t -> putBytesAt mm a (encode ly t v) m
+  where
+    ly = mmLayout mm
+
+-- | The bytes from an address (NX-TYPE-75): each taken from the variable
+-- that holds it, a scalar, string or union, as its value's bytes
+-- ('encode'); a direct-address area's from its bytes; a padding byte, or
+-- one where no variable lies, 0.
+bytesAt :: MemoryMap -> Machine -> Integer -> Integer -> [Word8]
+bytesAt mm m a n = go a
+  where
+    ly = mmLayout mm
+    end = a + n
+    go x
+      | x >= end = []
+      | Just (area, byte) <- areaAt x = fromInteger (M.findWithDefault 0 (area, byte) (mMemory m) .&. 255) : go (x + 1)
+      | Just (r, steps, lt, from) <- leafOf mm m x =
+          let k = min (sizeInBytes ly lt - from) (end - x)
+              bs = case rootValue mm r m >>= walk ly steps of
+                Just v | notRef v -> encode ly lt v
+                _ -> []
+           in take (fromInteger k) (drop (fromInteger from) bs ++ repeat 0) ++ go (x + k)
+      | otherwise = 0 : go (x + 1)
+
+-- | Bytes written from an address: each variable that holds some of them
+-- gets its value's bytes with those replaced ('decode'); a padding byte, or
+-- one where no variable lies, is dropped.
+putBytesAt :: MemoryMap -> Integer -> [Word8] -> Machine -> Machine
+putBytesAt mm x bytes m = case bytes of
+  [] -> m
+  b : rest
+    | Just (area, byte) <- areaAt x -> putBytesAt mm (x + 1) rest (m {mMemory = M.insert (area, byte) (toInteger b) (mMemory m)})
+    | Just (r, steps, lt, from) <- leafOf mm m x ->
+        let k = fromInteger (min (sizeInBytes ly lt - from) (toInteger (length bytes)))
+            (mine, others) = splitAt k bytes
+            m' = fromMaybe m $ do
+              root <- rootValue mm r m
+              old <- walk ly steps root
+              guard (notRef old)
+              let bs = encode ly lt old
+                  at = fromInteger from
+              pure (setRoot mm r (updateAt ly steps (decode ly lt (take at bs ++ mine ++ drop (at + k) bs)) root) m)
+         in putBytesAt mm (x + toInteger k) others m'
+    | otherwise -> putBytesAt mm (x + 1) rest m
+  where
+    ly = mmLayout mm
+
+-- | The root, path and type of the innermost variable holding the byte at
+-- an address, and the byte's offset inside it.
+leafOf :: MemoryMap -> Machine -> Integer -> Maybe (Root, [Step], Type, Integer)
+leafOf mm m x = do
+  (r, rt, base) <- find (\(_, rt, base) -> x >= base && x < base + sizeInBytes (mmLayout mm) rt) (rootsIn mm m)
+  (steps, lt, at) <- leafAt (mmLayout mm) rt (x - base)
+  Just (r, steps, lt, x - base - at)
+
+-- | A VAR_IN_OUT's reference is no data of its own.
+notRef :: Value -> Bool
+notRef = \case
+  VRef _ -> False
+  _ -> True
+
+-- | Does every byte from an address on lie in a root of memory (a global,
+-- a program instance, a call's frame) or a direct-address area?
+covered :: MemoryMap -> Machine -> Integer -> Integer -> Bool
+covered mm m a n = go a
+  where
+    end = a + max 1 n
+    go x
+      | x >= end = True
+      | isJust (areaAt x) = go (x + 1)
+      | otherwise = case [base + sizeInBytes (mmLayout mm) rt | (_, rt, base) <- rootsIn mm m, x >= base, x < base + sizeInBytes (mmLayout mm) rt] of
+          next : _ -> go next
+          [] -> False
 
 getPath :: RefPath -> Eval Value
 getPath path = getPathOr path (VBool False)
@@ -1145,8 +1234,8 @@ getPath path = getPathOr path (VBool False)
 getPathOr :: RefPath -> Value -> Eval Value
 getPathOr path dflt = do
   RefPath r steps <- narrowed path
-  ly <- asks (mmLayout . cxMemory)
-  gets (\m -> fromMaybe dflt (rootValue ly r m >>= walk ly steps))
+  mm <- asks cxMemory
+  gets (\m -> fromMaybe dflt (rootValue mm r m >>= walk (mmLayout mm) steps))
 
 -- | A path into a direct-address area's bytes reaches the bytes of its
 -- leaf: its fields and indices are offsets in the pointer's type, in the
@@ -1165,6 +1254,23 @@ narrowed path = case path of
           StepIndex _ -> True
           _ -> False
     pure (go a t steps)
+  -- a view's fields and indices are offsets in its type; where a variable
+  -- of the type found there starts, the path is that variable's
+  RefPath (RootAt a t) steps@(_ : _) -> do
+    ly <- asks (mmLayout . cxMemory)
+    let go off ty = \case
+          s : rest
+            | offsetStep s, Just (o, ft) <- offsetOf ly ty [s] -> go (off + o) ft rest
+          rest -> (off, ty, rest)
+        offsetStep = \case
+          StepField _ -> True
+          StepIndex _ -> True
+          _ -> False
+        (at, ty, rest) = go a t steps
+    exact <- variableAt at ty
+    pure $ case exact of
+      Just (RefPath r s) -> RefPath r (s ++ rest)
+      Nothing -> RefPath (RootAt at ty) rest
   _ -> pure path
 
 -- | The part of a value at a path; a union's member is read from its bytes
@@ -1181,8 +1287,8 @@ walk ly (s : rest) v = case (s, v) of
   _ -> Nothing
 
 putPath :: RefPath -> Value -> Eval ()
-putPath path v = narrowed path >>= \(RefPath r steps) -> asks (mmLayout . cxMemory) >>= \ly -> modify' $ \m -> case rootValue ly r m of
-  Just root -> setRoot ly r (updateAt ly steps v root) m
+putPath path v = narrowed path >>= \(RefPath r steps) -> asks cxMemory >>= \mm -> modify' $ \m -> case rootValue mm r m of
+  Just root -> setRoot mm r (updateAt (mmLayout mm) steps v root) m
   Nothing -> m
 
 -- | A value with the part at a path replaced (a missing field is added).
@@ -1239,10 +1345,11 @@ memoryMap prog = MemoryMap ly (globals ++ programs)
 -- instances, the frames of the calls under way.
 roots :: Eval [(Root, Type, Integer)]
 roots = do
-  fixed <- asks (mmRoots . cxMemory)
-  frames <- gets mFrames
-  let frameRoots = [(RootFrame d, TProgram n, frameBase d) | (d, VInstance n _) <- M.toList frames]
-  pure (fixed ++ frameRoots)
+  mm <- asks cxMemory
+  gets (rootsIn mm)
+
+rootsIn :: MemoryMap -> Machine -> [(Root, Type, Integer)]
+rootsIn mm m = mmRoots mm ++ [(RootFrame d, TProgram n, frameBase d) | (d, VInstance n _) <- M.toList (mFrames m)]
 
 addressOf :: RefPath -> Eval (Maybe Integer)
 addressOf (RefPath r steps) = do
@@ -1251,6 +1358,7 @@ addressOf (RefPath r steps) = do
   pure $ do
     (t, base) <- case r of
       RootBytes area a t -> (t,) . (+ a) <$> areaBase area
+      RootAt a t -> Just (t, a)
       _ -> (\(_, t, base) -> (t, base)) <$> find (\(r', _, _) -> r' == r) rs
     (off, _) <- offsetOf ly t steps
     pure (base + off)
@@ -1367,7 +1475,7 @@ readVariablePath prog m = readPath . throughList prog
         pure (x, typeAt (viType v) more)
       _ -> (,Nothing) <$> walkFollow rest inst
     walkFollow steps v = case walk ly steps v of
-      Just (VRef (RefPath r s)) -> rootValue ly r m >>= walk ly s
+      Just (VRef (RefPath r s)) -> rootValue (memoryMap prog) r m >>= walk ly s
       x -> x
     ly = layoutOf prog
     typeAt t = \case
@@ -1408,9 +1516,10 @@ writeVariablePath prog m steps0 v = case throughList prog steps0 of
         _ -> put path
     -- the path exists (walk), so updateAt adds no field
     put (RefPath r s) = do
-      root <- rootValue ly r m
+      root <- rootValue mm r m
       _ <- walk ly s root
-      Just (setRoot ly r (updateAt ly s v root) m)
+      Just (setRoot mm r (updateAt ly s v root) m)
+    mm = memoryMap prog
     ly = layoutOf prog
 
 readLocatedVar :: Program -> Location -> Type -> Machine -> Value

@@ -20,6 +20,11 @@
 --   1970, an enumeration the position of its value, a string its
 --   characters then NULs (the encoding a union's members share).
 --
+-- * Where no variable of a pointer's type starts at its address, the
+--   pointer reads the bytes there as its type, each from the variable that
+--   holds it ('leafAt'); a base type with an FB in it needs an instance
+--   ('plainData').
+--
 -- Programs cannot depend on where a variable lies, only on distances inside
 -- one variable (@ADR(a[2]) - ADR(a[1])@) and on pointer arithmetic in bytes.
 module Stref.IEC.Memory
@@ -30,6 +35,8 @@ module Stref.IEC.Memory
   , sizeInBytes
   , offsetOf
   , locate
+  , leafAt
+  , plainData
   , globalsBase
   , programsBase
   , frameBase
@@ -218,7 +225,42 @@ locate ly t off want
       (TFB _, TFB _) -> True
       (TString w1 _, TString w2 _) -> w1 == w2
       _ -> a == b || sameType a b
-    unlinear bs i = snd (foldr (\(lo, hi) (rest, acc) -> let n = hi - lo + 1 in (rest `div` n, lo + rest `mod` n : acc)) (i, []) bs)
+
+-- | The innermost variable holding the byte at an offset inside a
+-- variable of a type: its path, its type and its first byte's offset.
+-- Scalars, strings and unions are the leaves (a union holds bytes);
+-- Nothing for a padding byte or an offset outside the type.
+leafAt :: Layout -> Type -> Integer -> Maybe ([Step], Type, Integer)
+leafAt ly t off
+  | off < 0 || off >= sizeInBytes ly t = Nothing
+  | otherwise = case t of
+      TArray bs et -> do
+        let s = sizeInBytes ly et
+            (i, r) = off `divMod` s
+        if s <= 0 || i >= count bs
+          then Nothing
+          else (\(steps, lt, at) -> (StepIndex (unlinear bs i) : steps, lt, i * s + at)) <$> leafAt ly et r
+      TUnion {} -> Just ([], t, 0)
+      _ -> case members ly t of
+        Just ms ->
+          listToMaybe [(StepField k : steps, lt, fo + at) | (k, ft, fo) <- ms, off >= fo, off < fo + sizeInBytes ly ft, Just (steps, lt, at) <- [leafAt ly ft (off - fo)]]
+        Nothing -> Just ([], t, 0)
+
+-- | Is a type data only, no function block or program in it: what the
+-- bytes at an address can be read as when no variable of the type starts
+-- there (NX-TYPE-75, docs/nexto.md).
+plainData :: Type -> Bool
+plainData = \case
+  TArray _ et -> plainData et
+  TStruct _ fs -> all (plainData . snd) fs
+  TFB _ -> False
+  TProgram _ -> False
+  TNamed _ -> False
+  _ -> True
+
+-- | TC-TYPE-43: the indices of the i-th element, the last varying fastest.
+unlinear :: [(Integer, Integer)] -> Integer -> [Integer]
+unlinear bs i = snd (foldr (\(lo, hi) (rest, acc) -> let n = hi - lo + 1 in (rest `div` n, lo + rest `mod` n : acc)) (i, []) bs)
 
 globalsBase, programsBase, frameSpan :: Integer
 globalsBase = 0x00010000

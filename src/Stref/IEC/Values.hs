@@ -65,6 +65,11 @@ data Root
   | RootBytes !Char !Integer !Type
   -- ^ CODESYS: what a pointer into a direct-address area reaches: the bytes
   -- of area I, Q or M from a byte address, read as a type (NX-TYPE-75)
+  | RootAt !Integer !Type
+  -- ^ CODESYS: what a pointer reaches where no variable of its type starts
+  -- (an array of other bounds, a misaligned address): the bytes from an
+  -- address, read as a type, taken from the variables that hold them
+  -- (NX-TYPE-75, "Stref.IEC.Memory")
   deriving (Eq, Ord, Show)
 
 data Step
