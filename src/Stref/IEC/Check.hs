@@ -1966,7 +1966,7 @@ callStandard expected p f args = do
         case r of
           Just (cs, t) -> fixed p t (CStandard k cs)
           Nothing -> do
-            cs <- mapM settle tes
+            cs <- widened pol k <$> mapM settle tes
             case standardType pol k (map ceType cs) of
               Nothing -> failC "undeclared-function" p ("the function " <> f <> " is not declared")
               Just (Left msg)
@@ -2013,9 +2013,29 @@ callStandard expected p f args = do
               (Nothing, True) -> [settled]
               (Nothing, False) -> [settled | c == Nothing]
           else pure [ce]
-      case [(xs, t) | xs <- take 64 (sequence options), Just (Right t) <- [standardType pol (key f) (map ceType xs)]] of
+      case [(xs', t) | xs <- take 64 (sequence options), let xs' = widened pol (key f) xs, Just (Right t) <- [standardType pol (key f) (map ceType xs')]] of
         (r : _) -> pure (Just r)
         [] -> firstOk pol mixing tes cs
+    -- NX-CONV-1..3 (policy implicit-conversions): inputs of MAX, MIN,
+    -- LIMIT, SEL and MUX of different types are converted to the one the
+    -- others widen to implicitly, as an operator's operands are; none such:
+    -- left as they are, for the function's own message
+    widened pol k cs = fromMaybe cs $ do
+      let inputs = [c | (i, c) <- zip [0 :: Int ..] cs, i >= firstInput k]
+      t0 : ts <- Just (map ceType inputs)
+      t <- foldM (wider pol) t0 ts
+      Just [if i >= firstInput k && not (sameType (ceType c) t) then CExpr (cePos c) t (CConvert t c) else c | (i, c) <- zip [0 :: Int ..] cs]
+    firstInput k
+      | k `elem` ["MAX", "MIN", "LIMIT"] = 0
+      | k `elem` ["SEL", "MUX"] = 1
+      | otherwise = maxBound
+    wider pol a b
+      | sameType a b = Just a
+      | otherwise = case (baseElem a, baseElem b) of
+          (Just x, Just y)
+            | implicitAllowed (pImplicitConversions pol) x y -> Just (TElem y)
+            | implicitAllowed (pImplicitConversions pol) y x -> Just (TElem x)
+          _ -> Nothing
     userCall pou = do
       vars <- asks (fromMaybe [] . M.lookup (key (pouName pou)) . envVarsOf)
       (inputs, inouts, outputs) <- bindArgs p (pouName pou) vars args
