@@ -56,6 +56,10 @@ spec = describe "the nexto dialect" $ do
       cites tecomat mixed `shouldBe` Just "TC-POU-12)"
       cites tecomat recursive `shouldBe` Just "TC-POU-2)"
       cites nexto "FUNCTION F : INT\nVAR_EXTERNAL g : INT; END_VAR\nF := 1;\nEND_FUNCTION\nPROGRAM MAIN\nEND_PROGRAM\n" `shouldBe` Just "TC-VAR-9..15)"
+    it "an X_TO_Y conversion's argument of another type: TC-CONV-6 under tecomat, NX-CONV-10 under nexto" $ do
+      let conversion = "PROGRAM MAIN\nVAR ratio : REAL := 1.5; count : INT; END_VAR\ncount := DINT_TO_INT(ratio);\nEND_PROGRAM\n"
+      cites tecomat conversion `shouldBe` Just "TC-CONV-6)"
+      cites nexto conversion `shouldBe` Just "NX-CONV-10)"
   describe "statements of CODESYS (extensions = codesys)" $ do
     it "JMP goes back to a label: the manual's loop ends with i = 10 (NX-STMT-42, NX-STMT-43)" $
       runMain nexto "VAR i : INT; END_VAR i := 0; label1: i := i + 1; IF i < 10 THEN JMP label1; END_IF" 1 "i" `shouldBe` Right (VInt INT 10)

@@ -1940,7 +1940,8 @@ callStandard expected p f args = do
       case a of
         [x] -> do
           cx <- checkExprAt (Just (TElem from)) x
-          unless (sameType (ceType cx) (TElem from)) (failC "type-mismatch" (exprPos x) (f <> " converts a " <> elemName from <> ", not a " <> typeText (ceType cx)))
+          -- the argument has the type named first (TC-CONV-6, NX-CONV-10)
+          unless (sameType (ceType cx) (TElem from)) (failC "type-mismatch" (exprPos x) (f <> " converts a " <> elemName from <> ", not a " <> typeText (ceType cx) <> " " <> citing pol ["TC-CONV-6", "NX-CONV-10"]))
           fixed p (resultOf to cx) (CConvert (resultOf to cx) cx)
         _ -> failC "too-many-arguments" p (f <> " takes one argument")
     Nothing -> case M.lookup k pous of
