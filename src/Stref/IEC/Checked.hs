@@ -25,9 +25,7 @@ module Stref.IEC.Checked
 import Data.Map.Strict (Map)
 import qualified Data.Map.Strict as M
 import Data.Text (Text)
-import qualified Data.Text as T
 import Stref.IEC.Syntax (AssignOp, BinOp, EdgeQualifier, Location, Pos, PouKind, Section, UnOp)
-import Data.Char (chr, isAscii, ord)
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy (Policies, TimeRange)
@@ -35,12 +33,7 @@ import Stref.Policy (Policies, TimeRange)
 -- | Names compare without case (TC-LEX-15): every map is keyed by the
 -- upper-case name.
 key :: Text -> Text
-key t
-  -- an ASCII name (nearly every one) without the Unicode case tables
-  | T.all isAscii t = T.map asciiUpper t
-  | otherwise = T.toUpper t
-  where
-    asciiUpper c = if c >= 'a' && c <= 'z' then chr (ord c - 32) else c
+key = upperName
 
 data Program = Program
   { prPous :: Map Text PouDef -- ^ user and standard POUs by key

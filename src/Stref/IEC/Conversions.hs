@@ -108,7 +108,7 @@ conversionFunction p name
         | otherwise -> plain a b <|> fromBcd a b <|> toBcd a b
       _ -> Nothing
   where
-    n = T.toUpper name
+    n = upperName name
     codesys = codesysConversions p
     plain a b = do
       x <- side a
@@ -583,7 +583,7 @@ fromText p y s
       TOD | kind == TOD -> Just (VTod (ns `div` 1000000))
       DT | kind == DT -> Just (VDT (ns `div` 1000000))
       _ -> Nothing
-    boolText t = case T.toUpper (T.strip t) of
+    boolText t = case upperName (T.strip t) of
       "TRUE" -> True
       "FALSE" -> False
       _ -> maybe False (/= 0) (parseIntegerText t)
@@ -627,7 +627,7 @@ data RealText = RNaN | RInf Bool | RNum Bool Rational
   deriving (Eq, Show)
 
 parseRealText :: Text -> Maybe RealText
-parseRealText t0 = case T.toUpper t of
+parseRealText t0 = case upperName t of
   "NAN" -> Just RNaN
   "INF" -> Just (RInf False)
   "+INF" -> Just (RInf False)

@@ -186,7 +186,7 @@ parseVarPath t0 = go (T.strip t0)
       | T.null t = Right []
       | otherwise =
           let (name, rest) = T.span (\c -> c == '_' || c `elem` ['a' .. 'z'] || c `elem` ['A' .. 'Z'] || isDigit c) t
-           in if T.null name then bad else (StepField (T.toUpper name) :) <$> after rest
+           in if T.null name then bad else (StepField (upperName name) :) <$> after rest
     after r = case T.uncons r of
       Nothing -> Right []
       Just ('.', r') -> go r'
@@ -299,7 +299,7 @@ scalarValue pol ty s = case (ty, s) of
   (TElem LREAL, SNaN) -> Right (VLReal (0 / 0))
   (TElem REAL, SBits w) -> Right (VReal (realFromBitsLocal w))
   (TArray bs t, SList xs) -> VArray bs . foldr (\x acc -> x `seqCons` acc) mempty <$> mapM (scalarValue pol t) xs
-  (TStruct _ fs, SMap m) -> VStruct . M.fromList <$> mapM (\(k, x) -> maybe (Left ("no field " <> k)) (\t -> (T.toUpper k,) <$> scalarValue pol t x) (lookup (T.toUpper k) [(T.toUpper n, t) | (n, t) <- fs])) (M.toList m)
+  (TStruct _ fs, SMap m) -> VStruct . M.fromList <$> mapM (\(k, x) -> maybe (Left ("no field " <> k)) (\t -> (upperName k,) <$> scalarValue pol t x) (lookup (upperName k) [(upperName n, t) | (n, t) <- fs])) (M.toList m)
   (_, SText t) -> literalValue pol ty t
   _ -> Left ("the value does not fit the type " <> typeText ty)
   where
@@ -336,9 +336,9 @@ literalValue pol ty t = case parseUnitExpr pol t of
       _ -> Nothing
     enumValue v = case ty of
       TEnum n vs -> VEnum n <$> lookupCI v vs
-      TNumEnum _ e vs -> VInt e <$> lookup (T.toUpper v) [(T.toUpper k, x) | (k, x) <- vs]
+      TNumEnum _ e vs -> VInt e <$> lookup (upperName v) [(upperName k, x) | (k, x) <- vs]
       _ -> Nothing
-    lookupCI v vs = case [x | x <- vs, T.toUpper x == T.toUpper v] of
+    lookupCI v vs = case [x | x <- vs, upperName x == upperName v] of
       (x : _) -> Just x
       [] -> Nothing
     fromLit l = case (ty, l) of
@@ -371,7 +371,7 @@ scalarsMatch pol ty a b = case (scalarValue pol ty a, scalarValue pol ty b) of
     same x y = case (x, y) of
       (VReal f, VReal g) -> (isNaN f && isNaN g) || (f == g && isNegativeZero f == isNegativeZero g)
       (VLReal f, VLReal g) -> (isNaN f && isNaN g) || (f == g && isNegativeZero f == isNegativeZero g)
-      (VEnum _ v, VEnum _ w) -> T.toUpper v == T.toUpper w
+      (VEnum _ v, VEnum _ w) -> upperName v == upperName w
       (VArray _ xs, VArray _ ys) -> length xs == length ys && and (zipWith same (foldr (:) [] xs) (foldr (:) [] ys))
       (VStruct m, VStruct n) -> M.keys m == M.keys n && and (M.elems (M.intersectionWith same m n))
       _ -> x == y

@@ -1126,7 +1126,7 @@ fitWhy pol t v = case (t, v) of
     let rs = fmap (fitWhy pol et) xs
      in (VArray bs <$> traverse fst rs, concatMap snd (toList rs))
   (TStruct _ fs, VStruct m) | any (holdsSubrange . snd) fs ->
-    let rs = [(k, fitWhy pol ft x) | (n, ft) <- fs, let k = T.toUpper n, Just x <- [M.lookup k m], holdsSubrange ft]
+    let rs = [(k, fitWhy pol ft x) | (n, ft) <- fs, let k = upperName n, Just x <- [M.lookup k m], holdsSubrange ft]
      in (VStruct . foldr (uncurry M.insert) m <$> traverse (traverse fst) rs, concatMap (snd . snd) rs)
   _ -> (Right v, [])
   where

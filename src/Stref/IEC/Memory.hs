@@ -120,17 +120,17 @@ sizeAlignBy ly = \case
   TElem e -> let n = elemSize e in (n, n)
   TString w n -> if w then (2 * (toInteger n + 1), 2) else (toInteger n + 1, 1)
   TArray bs t -> let (s, a) = sizeAlign ly t in (count bs * s, a)
-  TStruct n fs -> packed (lyPack ly (T.toUpper n)) (map snd fs)
+  TStruct n fs -> packed (lyPack ly (upperName n)) (map snd fs)
   TEnum _ _ -> (2, 2)
   TNumEnum _ e _ -> let n = elemSize e in (n, n)
   TSubrange e _ _ -> let n = elemSize e in (n, n)
   TUnion n fs ->
     let sas = map (sizeAlign ly . snd) fs
-        al = packAlign (lyPack ly (T.toUpper n)) (maximum (1 : map snd sas))
+        al = packAlign (lyPack ly (upperName n)) (maximum (1 : map snd sas))
      in (alignUp al (maximum (0 : map fst sas)), al)
   -- NX-PRAGMA-11: a POU may be packed too (L4562-4564)
-  TFB n -> packed (lyPack ly (T.toUpper n)) (map snd (lyMembers ly n))
-  TProgram n -> packed (lyPack ly (T.toUpper n)) (map snd (lyMembers ly n))
+  TFB n -> packed (lyPack ly (upperName n)) (map snd (lyMembers ly n))
+  TProgram n -> packed (lyPack ly (upperName n)) (map snd (lyMembers ly n))
   TPointer _ -> (4, 4)
   TNamed _ -> (0, 1) -- never stored: only a pointer's target
   where
@@ -165,14 +165,14 @@ members ly t = maybe (membersBy ly t) (\(Known _ ms) -> ms) (lyKnown ly t)
 
 membersBy :: Layout -> Type -> Maybe [(Text, Type, Integer)]
 membersBy ly t = case t of
-  TUnion _ fs -> Just [(T.toUpper k, ft, 0) | (k, ft) <- fs]
+  TUnion _ fs -> Just [(upperName k, ft, 0) | (k, ft) <- fs]
   _ -> members' ly t
 
 members' :: Layout -> Type -> Maybe [(Text, Type, Integer)]
 members' ly t = case t of
-  TStruct n fs -> Just (place (lyPack ly (T.toUpper n)) [(T.toUpper k, ft) | (k, ft) <- fs])
-  TFB n -> Just (place (lyPack ly (T.toUpper n)) (lyMembers ly n))
-  TProgram n -> Just (place (lyPack ly (T.toUpper n)) (lyMembers ly n))
+  TStruct n fs -> Just (place (lyPack ly (upperName n)) [(upperName k, ft) | (k, ft) <- fs])
+  TFB n -> Just (place (lyPack ly (upperName n)) (lyMembers ly n))
+  TProgram n -> Just (place (lyPack ly (upperName n)) (lyMembers ly n))
   _ -> Nothing
   where
     place pack fs = reverse (snd (foldl (step pack) (0, []) fs))
@@ -348,7 +348,7 @@ decode ly t bs = case t of
     let s = fromInteger (sizeInBytes ly et)
      in VArray b (Seq.fromList [decode ly et (take s (drop (i * s) bs)) | i <- [0 .. fromInteger (product [hi - lo + 1 | (lo, hi) <- b]) - 1]])
   TStruct _ _ -> VStruct (M.fromList [(k, decode ly ft (drop (fromInteger fo) bs)) | (k, ft, fo) <- fromMaybe [] (members ly t)])
-  TUnion _ fs -> VUnion [(T.toUpper k, ft) | (k, ft) <- fs] (dropWhileEnd (== 0) (take (fromInteger (sizeInBytes ly t)) bs))
+  TUnion _ fs -> VUnion [(upperName k, ft) | (k, ft) <- fs] (dropWhileEnd (== 0) (take (fromInteger (sizeInBytes ly t)) bs))
   TEnum n vs -> let i = num 2 in if i < toInteger (length vs) then VEnum n (vs !! fromInteger i) else defaultValue t
   TNumEnum _ e _ -> VInt e (wrapInt e (num (intBits e `div` 8)))
   TSubrange e _ _ -> VInt e (wrapInt e (num (intBits e `div` 8)))

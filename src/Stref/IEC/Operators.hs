@@ -189,7 +189,7 @@ binary p op a b = case (a, b) of
   (VLReal x, VLReal y) -> realBinary p VLReal op x y
   (VBool x, VBool y) -> boolBinary op x y
   (VString x, VString y) -> stringBinary op x y
-  (VEnum t x, VEnum t' y) | T.toUpper t == T.toUpper t' -> enumBinary op x y
+  (VEnum t x, VEnum t' y) | upperName t == upperName t' -> enumBinary op x y
   _ -> timeBinary p op a b
 
 -- | 'binary' with the rules that decided its outcome where a policy did
@@ -475,8 +475,8 @@ stringBinary op x y = case op of
 -- | TC-TYPE-36: only = and <> on enumerated values.
 enumBinary :: BinOp -> Text -> Text -> Either Fault Value
 enumBinary op x y = case op of
-  BEq -> Right (VBool (T.toUpper x == T.toUpper y))
-  BNe -> Right (VBool (T.toUpper x /= T.toUpper y))
+  BEq -> Right (VBool (upperName x == upperName y))
+  BNe -> Right (VBool (upperName x /= upperName y))
   _ -> Left (illTyped ("the operator " <> binOpSymbol op <> " on enumerated values"))
 
 -- | Tab.3.20 (TC-OP-48..62). TIME counts milliseconds in 32 signed bits

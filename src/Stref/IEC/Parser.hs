@@ -23,7 +23,7 @@ import qualified Data.Text as T
 import Stref.IEC.Dialect.MasterTool (operandLocation)
 import Stref.IEC.Pragma (preprocessWith)
 import Stref.IEC.Syntax
-import Stref.IEC.Types (Elem (..))
+import Stref.IEC.Types (Elem (..), upperName)
 import Stref.Operands (parseOperand)
 import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..), SourceForm (..), citing)
 import Stref.Verification (VerificationError (..))
@@ -81,7 +81,7 @@ tooDeep pol = go 0 0 0 . zip [0 ..] . T.unpack
             | c == '-' || c == '+' -> if prefix + 1 > maxNesting then Just off else go depth (prefix + 1) 0 rest
             | isWordChar c ->
                 let (w, more) = span (isWordChar . snd) cs
-                    u = T.toUpper (T.pack (map snd w))
+                    u = upperName (T.pack (map snd w))
                  in if
                       | u `elem` openers -> if depth + 1 > maxNesting then Just off else go (depth + 1) 0 0 more
                       | u `elem` closers -> go (depth - 1) 0 0 more
@@ -200,7 +200,7 @@ notClosed off opener k = do
   here <- getSourcePos
   found <- lookAhead (optional (takeWhile1P Nothing isWordChar))
   atEnd' <- atEnd
-  let word = T.toUpper <$> found
+  let word = upperName <$> found
       endsABlock = atEnd' || maybe False (\w -> "END_" `T.isPrefixOf` w || w `elem` ["ELSE", "ELSIF", "UNTIL"]) word
       at = "line " <> T.pack (show (unPos (sourceLine here))) <> ", column " <> T.pack (show (unPos (sourceColumn here)))
   if endsABlock
@@ -264,7 +264,7 @@ identifier pol = lexeme pol $ do
           invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only " <> citing pol ["TC-LEX-12", "NX-LEX-2"])
       | "__" `T.isInfixOf` w ->
           invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed " <> citing pol ["TC-LEX-14", "NX-LEX-4"])
-      | T.toUpper w `Set.member` keywordsOf pol -> empty <?> "a name"
+      | upperName w `Set.member` keywordsOf pol -> empty <?> "a name"
       | otherwise -> do
           _ <- takeP Nothing (T.length w)
           pure (p, significant w)
@@ -275,7 +275,7 @@ identifier pol = lexeme pol $ do
       Unlimited -> w
     -- 2E5 and 1E3 are numbers, not names
     isNumberText w = case T.span isDigit w of
-      (_, rest) -> T.toUpper (T.take 1 rest) == "E" && T.all isDigit (T.drop 1 rest) && T.length rest > 1
+      (_, rest) -> upperName (T.take 1 rest) == "E" && T.all isDigit (T.drop 1 rest) && T.length rest > 1
 
 name :: Policies -> Parser Name
 name pol = snd <$> identifier pol
@@ -472,7 +472,7 @@ timeLiteral t = either (const Nothing) Just (runParser (lit <* eof) "" (T.strip 
   where
     lit = do
       w <- takeWhile1P Nothing isWordChar <* char '#'
-      case T.toUpper w of
+      case upperName w of
         u
           | u `elem` ["T", "TIME"] -> (TIME,) <$> durationBody
           | u `elem` ["LT", "LTIME"] -> (LTIME,) <$> durationBody
@@ -493,7 +493,7 @@ prefixed pol = do
   p <- pos
   off <- getOffset
   w <- try (takeWhile1P Nothing isWordChar <* char '#')
-  case T.toUpper w of
+  case upperName w of
     u
       | u `elem` ["T", "TIME"] -> lexeme pol (ELit p . LTime <$> (if codesys pol then checkedDuration else durationBody)) <?> "a duration such as 1h2m3s"
       -- NX-LEX-41, NX-TYPE-33: an LTIME, nanoseconds in 64 bits

@@ -89,7 +89,7 @@ standardNames =
 
 -- | A standard function's name (any case); not the conversions.
 isStandardName :: Text -> Bool
-isStandardName n = T.toUpper n `elem` standardNames
+isStandardName n = upperName n `elem` standardNames
 
 -- | NX-OP-87, NX-TASK-9: @TIME()@, the time since the controller started,
 -- is the virtual clock; the evaluator, which has it, computes the call.
@@ -103,7 +103,7 @@ timeFunction = "TIME"
 -- not print, are CODESYS's B and I), and TIME() (L8764-8776).
 libraryFunction :: Policies -> Text -> Maybe ([(Text, Elem)], Elem)
 libraryFunction p name
-  | pStandardLibrary p == LibraryCodesys = lookup (T.toUpper name) codesysLibrary
+  | pStandardLibrary p == LibraryCodesys = lookup (upperName name) codesysLibrary
   | otherwise = Nothing
 
 codesysLibrary :: [(Text, ([(Text, Elem)], Elem))]
@@ -120,7 +120,7 @@ codesysLibrary =
 -- the extensible functions IN1..INn, for MUX K, IN0..INn-2); conversion
 -- functions take IN. 'Nothing' for other names.
 standardParameters :: Policies -> Text -> Int -> Maybe [Text]
-standardParameters p name n = case T.toUpper name of
+standardParameters p name n = case upperName name of
   f
     | Just (params, _) <- libraryFunction p f -> Just (map fst params)
     | f `elem` (["ABS", "MOVE", "NOT", "LEN"] ++ map fst realFunctions) -> Just ["IN"]
@@ -153,7 +153,7 @@ standardType p name ts = case libraryFunction p f of
     Nothing -> conversionType p f ts
     r -> r
   where
-    f = T.toUpper name
+    f = upperName name
     libraryType params result
       | length ts /= length params = Left (f <> " takes " <> T.pack (show (length params)) <> " arguments, not " <> T.pack (show (length ts)))
       | and (zipWith (\t (_, e) -> baseElem t == Just e) ts params) = Right (TElem result)
@@ -321,7 +321,7 @@ standard p name tys vs = case (f, vs) of
     | isConversionName p f -> conversion p f tys vs
     | otherwise -> Left (illTyped ("the function " <> f <> " of these arguments"))
   where
-    f = T.toUpper name
+    f = upperName name
     pick op m x = do
       r <- binary p op x m
       Right (if r == VBool True then x else m)

@@ -22,8 +22,10 @@ module Stref.IEC.Types
   , typeText
   , baseElem
   , sameType
+  , upperName
   ) where
 
+import Data.Char (chr, isAscii, ord)
 import Data.Text (Text)
 import GHC.Arr (Array, listArray, (!))
 import qualified Data.Text as T
@@ -191,3 +193,12 @@ sameType a b = case (a, b) of
   -- ARRAY[0..2] and ARRAY[1..3] are not assigned to each other
   (TArray b1 t1, TArray b2 t2) -> b1 == b2 && sameType t1 t2
   _ -> a == b
+
+-- | A name in upper case: names compare without case (TC-LEX-15). An ASCII
+-- name (nearly every one) is mapped without Unicode's case tables.
+upperName :: Text -> Text
+upperName t
+  | T.all isAscii t = T.map asciiUpper t
+  | otherwise = T.toUpper t
+  where
+    asciiUpper c = if c >= 'a' && c <= 'z' then chr (ord c - 32) else c
