@@ -422,20 +422,20 @@ spec = describe "the stref command line" $ do
       (j >>= field ["operands", "%M0012"]) `shouldBe` Just (Number 7)
       (j >>= field ["outputs", "OUTPUT1"]) `shouldBe` Just (Bool False)
 
-    -- bench/programs/scan.st: COUNT := COUNT + 1 saturates at 32767
+    -- scan-mastertool.st: COUNT := COUNT + 1 saturates at 32767
     -- (MT-OP-6); in the last call T = 32767 MOD 16 = 15, so the IF body is
     -- skipped: five assignments and the IF test are 6 steps. A heap of 16 MB
     -- holds the run only if the calls are not all kept until the end (they
     -- were: 58 MB for 10^5 calls).
     it "runs 10^5 calls in constant memory, as text" $ do
-      (code, out, err) <- stref ["run", "bench/programs/scan.st", "--calls", "100000", "+RTS", "-M16m", "-RTS"]
+      (code, out, err) <- stref ["run", fixture "scan-mastertool.st", "--calls", "100000", "+RTS", "-M16m", "-RTS"]
       (code, err) `shouldBe` (ExitSuccess, "")
       -- the calls, "operands changed:", four operands, outputs, diagnostics
       length (lines out) `shouldBe` 100000 + 7
       take 2 (drop 99999 (lines out)) `shouldBe` ["call 100000: ok (6 steps)", "operands changed:"]
       lines out `shouldContain` ["  %M0200        32767  (16#7FFF)"]
     it "runs 10^5 calls in constant memory, as JSON" $ do
-      (code, out, err) <- stref ["run", "bench/programs/scan.st", "--calls", "100000", "--format", "json", "+RTS", "-M16m", "-RTS"]
+      (code, out, err) <- stref ["run", fixture "scan-mastertool.st", "--calls", "100000", "--format", "json", "+RTS", "-M16m", "-RTS"]
       (code, err) `shouldBe` (ExitSuccess, "")
       let j = decode (BL.pack out) :: Maybe Value
       fmap (\case Array calls -> V.length calls; _ -> 0) (j >>= field ["calls"]) `shouldBe` Just 100000
@@ -464,7 +464,7 @@ spec = describe "the stref command line" $ do
     it "ends stref quietly with exit status 141" $ do
       bin <- strefBinary
       (_, Just out, Just err, ph) <-
-        createProcess (proc bin ["run", "bench/programs/scan.st", "--calls", "100000"]) {std_out = CreatePipe, std_err = CreatePipe}
+        createProcess (proc bin ["run", fixture "scan-mastertool.st", "--calls", "100000"]) {std_out = CreatePipe, std_err = CreatePipe}
       firstLine <- hGetLine out
       hClose out
       errText <- hGetContents err
