@@ -6,7 +6,7 @@ int main(void) {
   int16_t i, j, k, n = 0;
   int32_t acc = 0;
   for (i = 0; i <= 99; i++) v[i] = (int32_t)sub16(300, mul16(i, 7));
-  for (k = 1; k <= 2500; k++) {
+  for (k = 1; k <= 4000; k++) {
     for (j = 1; j <= 1000; j++)
       for (i = 0; i <= 99; i++)
         acc = sub32(add32(acc, mul32(v[i], 3)), (int32_t)j);

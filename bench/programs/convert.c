@@ -4,7 +4,7 @@
 int main(void) {
   int32_t acc = 0;
   uint16_t wa = 0;
-  for (int16_t k = 1; k <= 125; k++)
+  for (int16_t k = 1; k <= 150; k++)
     for (int16_t j = 1; j <= 1000; j++)
       for (int16_t i = -500; i <= 499; i++) {
         float x = mulf((float)i, 1.5f);
