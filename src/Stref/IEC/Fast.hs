@@ -884,7 +884,9 @@ framed cx p d sh (Body' body) ins outs = do
     vec <- st (V.thaw slots)
     st (modifySTRef' (eFrames e) ((depth, sh, initial, vec) :))
     let frame = Slot vec 0
-    forM_ (zip ins' vs) $ \((Fitter f, o, s), v) -> f v >>= writePlace s (at frame o)
+    forM_ (zip ins' vs) $ \((Fitter f, o, s), v) -> f v >>= \x -> case (o, s) of
+      (Right i, Leaf) -> st (MV.write vec i $! x)
+      _ -> writePlace s (at frame o) x
     _ <- within (\e' -> this e' {eSelf = vec, eBase = 0, eDepth = depth}) body
     forM_ outs' $ \(o, Ref target, Fitter f) -> do
       v <- readPlace Leaf (at frame o)
@@ -900,13 +902,20 @@ framed cx p d sh (Body' body) ins outs = do
 -- of the method's with THIS the instance.
 callMethod :: Cx -> Pos -> Dispatch -> CRef -> [(Text, CExpr)] -> [(Text, CRef, Type)] -> Maybe Ex
 callMethod cx p d r ins outs = do
-  (_, Recv recv) <- receiver cx p r
+  (sh, Recv recv) <- receiver cx p r
   exs <- mapM (expr cx . snd) ins
   let m = case d of
         Virtual k -> k
         Static _ k -> k
-      -- each type's method, built when a call first reaches that type
-      byType = LM.fromList [(k, invoke k) | k <- M.keys (prPous (cProg cx))]
+      -- each type's method, built when a call first reaches that type: the
+      -- receiver's type and those derived from it (NX-POU-43), or SUPER^'s
+      byType = LM.fromList [(k, invoke k) | k <- M.keys (prPous (cProg cx)), reaches k]
+      reaches k = case d of
+        Static t _ -> k == key t
+        Virtual _ -> maybe True (derivedFrom (cProg cx) k) declared
+      declared = case sh of
+        Record (Just n) _ _ -> Just n
+        _ -> Nothing
       invoke t = do
         md <- findMethod (cProg cx) t m
         owner <- declaring t
