@@ -981,7 +981,7 @@ fastMeaning ctx = \case
   CReadIndex line v ix ->
     let index = elementIndex pol line v
         -- the element closures, built once
-        elements = V.generate (varElements v) (readRun v)
+        elements = V.generate (varElements v) (readRunIn ctx v)
         def = defaultValue (varBasicType v)
         ix' = indexExpr ix
         ixM@(Meaning fi _ _ _) = meaning ctx ix'
@@ -1288,7 +1288,7 @@ fastStmt ctx = \case
             let ix' = indexExpr ix
                 ixM = meaning ctx ix'
                 index = elementIndex pol iline v
-                writers = V.generate (varElements v) (writeRun v)
+                writers = V.generate (varElements v) (writeRunIn ctx v)
              in case (varHome v, intBounds v) of
                   (Data base, Just (lo, hi))
                     | intTyped (cexprType ix') ->
@@ -1584,7 +1584,7 @@ tracedMeaning ctx = \case
      in traced $ \e m -> r e m >>= \x -> x <$ traceEvent m (Read line (varName v) (showValue x))
   CReadIndex iline v ix ->
     let ixM = meaning ctx (indexExpr ix)
-        elements = V.generate (varElements v) (readRun v)
+        elements = V.generate (varElements v) (readRunIn ctx v)
      in traced $ \e m -> thenValue ixM e m $ \iv -> do
           k <- tracedIndex pol line iline v m iv
           if k < 0
@@ -1772,7 +1772,7 @@ tracedStmt ctx = \case
              in \e m -> step line m $ withValue xM e m $ \val -> w val e m >> wrote m line (varName v) val
           LTIndex iline v ix ->
             let ixM = meaning (at line) (indexExpr ix)
-                writers = V.generate (varElements v) (writeRun v)
+                writers = V.generate (varElements v) (writeRunIn ctx v)
              in \e m -> step line m $ withValue xM e m $ \val -> withValue ixM e m $ \iv -> do
                   k <- tracedIndex pol line iline v m iv
                   if k < 0
