@@ -26,7 +26,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
-import Stref.IEC.Dialect.MasterTool (operandTakes, reservedWord)
+import Stref.IEC.Dialect.MasterTool (SignalUse (..), elementaryTypes, hasConversion, operandTakes, reservedWord, signalUse)
 import Stref.IEC.Memory (layout, sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, fitsUnder, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
@@ -66,12 +66,18 @@ data Env = Env
   , envProgramInstance :: M.Map Text Text -- ^ each PROGRAM's instance, by the program's key
   , envStatic :: Text -- ^ where the running POU's VAR_STAT lie: the prefix of their global keys
   , envTypeDepth :: Int
+  , envForVars :: [Text] -- ^ MasterTool: the control variables of the enclosing FORs (MT-STMT-20)
   }
 
 type C = ReaderT Env (Except VerificationError)
 
 failC :: Text -> Pos -> Text -> C a
 failC k p m = throwError (VerificationError k p m)
+
+-- | Whether the unit is a MasterTool XE module (the preset's source form),
+-- whose verifier has rules of its own (MT-VERR, Table 5-1).
+masterToolSource :: C Bool
+masterToolSource = asks ((== MasterToolSource) . pSourceForm . envPol)
 
 -- | NX-ERR-1, NX-ERR-2: the implicit check functions, called where the
 -- manual says when the program declares them.
@@ -165,6 +171,7 @@ checkUnit pol choice (Unit decls) = runExcept $ do
           , envProgramInstance = M.empty
           , envStatic = ""
           , envTypeDepth = 0
+          , envForVars = []
           }
   -- global CONSTANTs, which declarations may use (array bounds, initial
   -- values: TC-VAR-18, TC-VAR-31); computed before the POUs' variables
@@ -705,7 +712,12 @@ instanceValue n = do
 resolveType :: TypeSpec -> C Type
 resolveType = \case
   TSName p n -> case parseElemName n of
-    Just e -> pure (TElem e)
+    Just e -> do
+      -- MT-TYPE-1: MasterTool has eight of the elementary types
+      mt <- masterToolSource
+      when (mt && e `notElem` elementaryTypes) $
+        failC "unsupported-type" p ("the type " <> n <> " is not a type of MasterTool XE (BOOL, BYTE, WORD, DWORD, USINT, INT, DINT, REAL; MT-TYPE-1)")
+      pure (TElem e)
     Nothing | key n == "BIT" -> do
       -- NX-TYPE-17: CODESYS's BIT holds TRUE or FALSE, a BOOL to the program
       pol <- asks envPol
@@ -1023,6 +1035,17 @@ checkStmts :: [Stmt] -> C [CStmt]
 checkStmts ss = do
   let labels = [(p, n) | SLabel p n <- ss]
   either throwError pure (runExcept (checkDuplicates labels))
+  -- MT-STMT-22, MT-VERR-16: under MasterTool a statement after RETURN or
+  -- EXIT in the same list is an error (the empty statement aside)
+  mt <- masterToolSource
+  let statements = filter (\case SEmpty _ -> False; _ -> True) ss
+      jumps = \case
+        SReturn _ -> True
+        SExit _ -> True
+        _ -> False
+  case [s | (j, s) <- zip statements (drop 1 statements), jumps j] of
+    s : _ | mt -> failC "unreachable-code" (stmtPos s) "this statement can never run: it follows a RETURN or EXIT in the same statement list (MT-VERR-16)"
+    _ -> pure ()
   local (\e -> e {envLabels = envLabels e `Set.union` Set.fromList (map (key . snd) labels)}) (catMaybes <$> mapM checkStmt ss)
 
 checkStmt :: Stmt -> C (Maybe CStmt)
@@ -1037,7 +1060,12 @@ checkStmt = \case
             v <- checkExprAt (Just ty) value >>= assignable ty
             pure (Just (CEval p (CExpr p (TElem BOOL) (CMethod d ref [(n, v)] [] []))))
           Nothing -> plainAssign p target value
-  SAssign p target value -> plainAssign p target value
+  SAssign p target value -> do
+    -- MT-STMT-20, MT-VERR-29: a FOR's control variable is not written in its body
+    fors <- asks envForVars
+    case target of
+      EVar tp n | key n `elem` fors -> failC "for-variable-written" tp ("the FOR control variable " <> n <> " cannot be written inside its FOR (MT-VERR-29)")
+      _ -> plainAssign p target value
   SCall p callee args -> Just <$> checkCallStmt p callee args
   SIf p arms els -> do
     arms' <- forM arms $ \(c, b) -> (,) <$> condition c <*> checkStmts b
@@ -1055,8 +1083,12 @@ checkStmt = \case
         CaseValue e -> (\o -> (o, o)) <$> labelOrdinal (ceType s) e
         CaseRange a b' -> (,) <$> labelOrdinal (ceType s) a <*> labelOrdinal (ceType s) b'
       (ranges,) <$> checkStmts b
+    mt <- masterToolSource
+    when mt $ masterToolLabels [(labelPos l, r) | ((labels, _), (ranges, _)) <- zip arms arms', (l, r) <- zip labels ranges]
     Just . CCase p s arms' <$> checkStmts els
   SFor p v start end step body -> do
+    mt <- masterToolSource
+    when mt $ masterToolFor p v
     (ref, ty) <- checkTarget (EVar p v)
     case baseElem ty of
       Just e | isAnyInt e -> pure ()
@@ -1064,7 +1096,7 @@ checkStmt = \case
     s <- checkExprAt (Just ty) start >>= assignable ty
     e <- checkExprAt (Just ty) end >>= assignable ty
     st <- traverse (\x -> checkExprAt (Just ty) x >>= assignable ty) step
-    b <- local (\env -> env {envLoop = True}) (checkStmts body)
+    b <- local (\env -> env {envLoop = True, envForVars = key v : envForVars env}) (checkStmts body)
     pure (Just (CFor p ref ty s e st b))
   SWhile p c body -> do
     c' <- condition c
@@ -1106,6 +1138,38 @@ checkStmt = \case
                 failC "type-mismatch" (exprPos t) "S= and R= set or reset a BOOL by a BOOL (NX-STMT-7, NX-STMT-8)"
               go cur rest ((op, ref, ty, Nothing) : acc)
     Just . CChain p v <$> go v (reverse targets) []
+
+-- | MT-STMT-10, MT-STMT-11 (MT-VERR-27, MT-VERR-38): under MasterTool a
+-- CASE's ranges run upwards, and no value labels two cases; each label with
+-- its position and its range, in the order written.
+masterToolLabels :: [(Pos, (Integer, Integer))] -> C ()
+masterToolLabels = go []
+  where
+    go _ [] = pure ()
+    go seen ((p, (a, b)) : rest)
+      | a > b = failC "min-greater-than-max" p ("the range " <> T.pack (show a) <> ".." <> T.pack (show b) <> " has its minimum above its maximum (MT-VERR-38)")
+      | (c, _) : _ <- filter (\(c, d) -> c <= b && a <= d) seen = failC "case-value-duplicated" p ("the value " <> T.pack (show (max a c)) <> " is already used by another case of this CASE (MT-VERR-27)")
+      | otherwise = go ((a, b) : seen) rest
+
+-- | The position of a CASE label (its first value).
+labelPos :: CaseLabel -> Pos
+labelPos = \case
+  CaseValue e -> exprPos e
+  CaseRange a _ -> exprPos a
+
+-- | MasterTool's rules for a FOR's control variable, before the core's:
+-- not the control variable of an enclosing FOR (MT-STMT-20, MT-VERR-29),
+-- not mapped to a PLC operand (MT-STMT-17, MT-VERR-28), USINT or INT
+-- (MT-STMT-16).
+masterToolFor :: Pos -> Text -> C ()
+masterToolFor p v = do
+  fors <- asks envForVars
+  when (key v `elem` fors) $ failC "for-variable-written" p ("the FOR control variable " <> v <> " cannot be written inside its FOR (MT-VERR-29)")
+  found <- lookupName p v
+  case found of
+    Just (CLocated {}, _, _) -> failC "for-variable-mapped" p ("the FOR control variable " <> v <> " is mapped to a PLC operand (MT-VERR-28)")
+    Just (_, ty, _) | ty `notElem` [TElem USINT, TElem INT] -> failC "invalid-for-variable" p ("the FOR control variable " <> v <> " must be USINT or INT (MT-STMT-16)")
+    _ -> pure ()
 
 -- | An assignment to a variable.
 plainAssign :: Pos -> Expr -> Expr -> C (Maybe CStmt)
@@ -1158,8 +1222,9 @@ checkTarget target = do
     Writable -> pure (ref, ty)
     ReadOnly why -> failC "write-not-allowed" (exprPos target) why
     Hidden why -> failC "write-not-allowed" (exprPos target) why
+    WriteOnly _ -> pure (ref, ty)
 
-data Access = Writable | ReadOnly Text | Hidden Text
+data Access = Writable | ReadOnly Text | Hidden Text | WriteOnly Text -- ^ MasterTool's outputs (MT-VERR-25)
 
 -- | A variable reference with its type and what may be done with it.
 checkRef :: Expr -> C (CRef, Type, Access)
@@ -1430,16 +1495,23 @@ lookupName _ n = do
         Nothing -> Nothing
       asGlobal g = (refOf (CGlobal (viKey g)) g, viType g, globalAccess g)
       refOf r v = maybe r (\l -> CLocated l (viType v)) (viAt v)
+      mt = pSourceForm pol == MasterToolSource
       localAccess v
+        -- MT-VERR-25: a PROGRAM's VAR_OUTPUT is written, not read
+        | mt, viSection v == SecOutput, fmap pouKind pou == Just KProgram = WriteOnly ("the output " <> viName v <> " is written by the program and cannot be read (MT-VERR-25)")
         | viSection v == SecInput && pFBAccess pol == AccessIec = ReadOnly ("the input " <> viName v <> " is read-only inside its own POU (TC-VAR-1)")
         | viConstant v = ReadOnly ("the CONSTANT " <> viName v <> " cannot be written " <> citing pol ["TC-VAR-18", "NX-VAR-16"])
         | otherwise = Writable
       globalAccess g
+        -- MT-SIG-2, MT-OP-7 (MT-VERR-25, MT-VERR-26): the controller's signals
+        | mt, Just ReadSignal <- signalUse (viKey g) = ReadOnly (viName g <> " is read-only (MT-VERR-26)")
+        | mt, Just WriteSignal <- signalUse (viKey g) = WriteOnly (viName g <> " is write-only (MT-VERR-25)")
         | viConstant g = ReadOnly ("the CONSTANT " <> viName g <> " cannot be written " <> citing pol ["TC-VAR-18", "NX-VAR-16"])
         | otherwise = Writable
       loc = M.lookup k locals >>= asLocal
       inst = (\v -> (CInstance k, viType v, globalAccess v)) <$> M.lookup k instanceVars
-      glob = asGlobal <$> M.lookup k globals
+      -- decision A20: the signals are seen in the PROGRAM only
+      glob = asGlobal <$> M.lookup k (if mt && fmap pouKind pou == Just KFunction then M.filterWithKey (\gk _ -> isNothing (signalUse gk)) globals else globals)
   programInstance <- asks (M.lookup k . envProgramInstance)
   -- NX-POU-3, NX-POU-4: a program's name is its instance, read (PRG.out)
   -- and called from other programs and function blocks
@@ -1563,6 +1635,7 @@ infer expected = \case
     r <- lookupName p n
     case r of
       Just (_, _, Hidden why) -> failC "read-not-allowed" p why
+      Just (_, _, WriteOnly why) -> failC "read-not-allowed" p why
       Just (ref, ty, _) -> fixed p ty (CRead ref)
       Nothing -> do
         prop <- propertyAccess getterKey (EVar p n)
@@ -1646,6 +1719,7 @@ readRef e = do
   (ref, ty, access) <- checkRef e
   case access of
     Hidden why -> failC "read-not-allowed" (exprPos e) why
+    WriteOnly why -> failC "read-not-allowed" (exprPos e) why
     _ -> fixed (exprPos e) ty (CRead ref)
 
 -- | An unqualified enumerated value (TC-TYPE-36): the expected type's, or the
@@ -1755,7 +1829,12 @@ binaryExpr expected p o a b = do
     plain pol ca cb = do
       (ca', cb') <- widen pol ca cb
       case binaryType pol o (ceType ca') (ceType cb') of
-        Right t -> fixed p t (CBinary o ca' cb')
+        Right t
+          -- MT-OP-4, MT-OP-11, MT-OP-12 (MT-VERR-13): MasterTool orders
+          -- numbers only, and MOD takes integers only
+          | pSourceForm pol == MasterToolSource, Just e <- baseElem (ceType ca'), not (masterToolOperand o e) ->
+              failC "invalid-binary-operation" p ("the operation is not possible between two " <> elemName e <> " (MT-VERR-13)")
+          | otherwise -> fixed p t (CBinary o ca' cb')
         Left msg
           | sameType (ceType ca') (ceType cb') -> failC "invalid-binary-operation" p msg
           | otherwise ->
@@ -1771,6 +1850,10 @@ binaryExpr expected p o a b = do
       (ta, TPointer _) | comparison op, isIntType ta -> Just (CExpr p (TElem BOOL) (CBinary op (word ca) (word cb)))
       _ -> Nothing
     comparison op = op `elem` [BEq, BNe, BLt, BGt, BLe, BGe]
+    masterToolOperand op e
+      | op == BMod = isAnyInt e
+      | op `elem` [BLt, BGt, BLe, BGe] = isAnyNum e
+      | otherwise = True
     isIntType t = maybe False isInt (baseElem t)
     isPointer = \case
       TPointer _ -> True
@@ -1908,6 +1991,22 @@ callExpr expected p f args
         _ -> pure (ce, flex)
   | otherwise = callStandard expected p f args
 
+-- | MT-OP-21, MT-VERR-10: the functions a MasterTool module calls are EXPT,
+-- the conversions of Table 4-6 (MT-CONV) and the module's functions
+-- declared before the caller (MT-SCOPE-2); the core's other standard
+-- functions (ABS, SQRT, SHL, REAL_TO_BYTE, ...) are not declared.
+masterToolFunction :: Pos -> Text -> C ()
+masterToolFunction p f = do
+  pous <- asks envPous
+  caller <- asks envPou
+  let k = key f
+      declaredBefore = case (M.lookup k pous, caller) of
+        (Just callee, Just c) -> key (pouName c) == k || pouPos callee < pouPos c
+        (Just _, Nothing) -> True
+        _ -> False
+  unless (k == "EXPT" || hasConversion k || declaredBefore) $
+    failC "undeclared-function" p ("the function " <> f <> " is not declared; a module calls EXPT, the conversions and its functions declared before the call (MT-VERR-10, MT-OP-21)")
+
 -- | The size in bytes of a variable of the type (TC-STR-12): C's layout
 -- without padding, a STRING[n] with its terminating NUL (TC-TYPE-24).
 sizeOf :: Type -> Integer
@@ -1934,6 +2033,7 @@ callStandard expected p f args = do
   pol <- asks envPol
   pous <- asks envPous
   let k = key f
+  when (pSourceForm pol == MasterToolSource) (masterToolFunction p f)
   case conversionName pol k of
     Just (from, to) -> do -- TC-CONV-6
       a <- positionalOnly
@@ -2156,6 +2256,7 @@ checkCallStmt p callee args = do
       (ref, ty, access) <- checkRef callee
       case access of
         Hidden why -> failC "read-not-allowed" p why -- TC-POU-23
+        WriteOnly why -> failC "read-not-allowed" p why
         _ -> pure ()
       case ty of
         TFB fb -> do

@@ -22,14 +22,19 @@ module Stref.IEC.Dialect.MasterTool
   , operandByteWidth
   , tableByteWidth
   , reservedWord
+  , elementaryTypes
+  , hasConversion
+  , SignalUse (..)
+  , signalUse
   ) where
 
 import qualified Data.Text as T
+import Stref.Conversions (lookupConversionFunction)
 import Stref.Lexical (WordClass (..), classifyWord)
 import Stref.IEC.Syntax (Location (..))
 import Stref.IEC.Types (Elem (..), Type (..))
 import Stref.Operands (Operand (..), SimpleKind (..), TableKind (..), parseOperand, renderOperand, simpleLetter)
-import Stref.Policy (Policies)
+import Stref.Policy (Policies, overflowFlagName)
 
 -- | The bytes of one operand of a kind (MT-MAP-17, Table 2-1).
 operandByteWidth :: SimpleKind -> Integer
@@ -122,3 +127,26 @@ reservedWord :: Policies -> T.Text -> Bool
 reservedWord pol w =
   let u = T.toUpper w
    in classifyWord pol u /= WPlain && classifyWord pol u /= WPredeclared
+
+-- | MT-TYPE-1: the eight elementary types of MasterTool XE; the core's
+-- others are not MasterTool's (unsupported-type).
+elementaryTypes :: [Elem]
+elementaryTypes = [BOOL, BYTE, WORD, DWORD, USINT, INT, DINT, REAL]
+
+-- | MT-CONV-1..14 (Table 4-6): whether MasterTool has the conversion
+-- function of this name (@INT_TO_REAL@; not @REAL_TO_BYTE@).
+hasConversion :: T.Text -> Bool
+hasConversion = maybe False (const True) . lookupConversionFunction
+
+-- | How a module uses one of the controller's globals (MT-SIG-1, MT-SIG-2,
+-- MT-OP-7): INPUT1..3 and INTERNAL_OVERFLOW are read only (MT-VERR-26),
+-- OUTPUT1..3 written only (MT-VERR-25).
+data SignalUse = ReadSignal | WriteSignal
+  deriving (Eq, Show)
+
+-- | The use of a signal, by its key (upper case); Nothing for another name.
+signalUse :: T.Text -> Maybe SignalUse
+signalUse k
+  | k `elem` ["INPUT1", "INPUT2", "INPUT3", overflowFlagName] = Just ReadSignal
+  | k `elem` ["OUTPUT1", "OUTPUT2", "OUTPUT3"] = Just WriteSignal
+  | otherwise = Nothing
