@@ -195,6 +195,11 @@ checkUnit pol choice (Unit decls) = runExcept $ do
     checkDuplicates [(viPos v, viName v) | v <- vs]
     pure (b, vs)
   gvls <- globalLists perBlock
+  -- MT-SCOPE-2, MT-POU-13 (MT-VERR-7): a MasterTool module's functions and
+  -- its program are names of the global scope
+  when (pSourceForm pol == MasterToolSource) $
+    forM_ pous $ \p -> when (key (pouName p) `elem` [key (viName v) | (_, vs) <- perBlock, v <- vs]) $
+      throwError (VerificationError "duplicate-identifier" (pouPos p) ("'" <> pouName p <> "' is declared already as a global variable (MT-VERR-7)"))
   let globals = [v | (_, _, vs) <- gvls, v <- vs]
       unqualified = M.fromList [(key (viName v), v) | (_, False, vs) <- gvls, v <- vs, not (clashes v)]
       clashes v = viKey v /= key (viName v)
@@ -394,6 +399,12 @@ sectionRules = \case
 pouVariables :: Pou -> C [VarInfo]
 pouVariables p = do
   pol <- asks envPol
+  when (pSourceForm pol == MasterToolSource && pouKind p == KFunction) $ do
+    -- MT-POU-3: a function has an input; MT-POU-7 (MT-VERR-36): only inputs
+    unless (any (\b -> vbSection b == SecInput && not (null (vbDecls b))) (pouVars p)) $
+      failC "function-without-input" (pouPos p) ("the function " <> pouName p <> " needs at least one VAR_INPUT parameter (MT-POU-3)")
+    forM_ (pouVars p) $ \b -> when (vbSection b `elem` [SecInOut, SecOutput]) $
+      failC "function-parameter-kind" (vbPos b) ("the function " <> pouName p <> " may have VAR_INPUT parameters only, not VAR_IN_OUT or VAR_OUTPUT (MT-VERR-36)")
   forM_ (pouVars p) $ \b ->
     unless (sectionAllowed pol (pouKind p) (vbSection b)) $
       failC "section-not-allowed" (vbPos b) (sectionName (vbSection b) <> " is not allowed in a " <> kindName (pouKind p) <> " " <> citing pol ("TC-VAR-9..15" : sectionRules (vbSection b)))
@@ -547,6 +558,14 @@ declVars kind sec constant retention d = do
   pol <- asks envPol
   forM_ (vdNames d) $ \(p, n) -> when (reservedName pol n) (failC "reserved-name" p ("'" <> n <> "' is reserved: " <> reservedWhy pol "variables"))
   ty <- resolveType (vdType d)
+  -- MT-POU-6, MT-PARAM-8 (MT-VERR-32): no array is a function's parameter,
+  -- no BOOL nor BOOL array a program's
+  when (pSourceForm pol == MasterToolSource) $ case (kind, ty) of
+    (Just KFunction, TArray {})
+      | sec == SecInput -> failC "invalid-parameter-type" (vdPos d) "an array cannot be a parameter of a function (MT-VERR-32)"
+    (Just KProgram, t)
+      | sec `elem` [SecInput, SecInOut, SecOutput], t == TElem BOOL || isBoolArray t -> failC "invalid-parameter-type" (vdPos d) (typeText t <> " cannot be a parameter of a program (MT-VERR-32)")
+    _ -> pure ()
   when (pExtensions pol == ExtensionsCodesys) $ do
     -- NX-POU-10: a function declares no FB instance (an input may take one)
     case ty of
@@ -611,6 +630,11 @@ declVars kind sec constant retention d = do
   case vdNames d of
     [] -> pure [VarInfo (maybe "" locText at) (maybe "" locText at) sec ty initV constant at Nothing (vdPos d) retention]
     ns -> pure [VarInfo n (key n) sec ty initV constant at (vdEdge d) p retention | (p, n) <- ns]
+
+isBoolArray :: Type -> Bool
+isBoolArray = \case
+  TArray _ (TElem BOOL) -> True
+  _ -> False
 
 -- | The initial value of a type as declared: a TYPE's own initial value,
 -- the initial values of a structure's fields, the type's default otherwise
@@ -752,11 +776,18 @@ resolveType = \case
     pol <- asks envPol
     let most = pArrayDimensions pol
     when (length dims > most) (failC "too-many-dimensions" p ("an array has at most " <> T.pack (show most) <> " dimensions " <> citing pol ["TC-TYPE-39", "NX-TYPE-42"]))
+    mt <- masterToolSource
     bs <- forM dims $ \(a, b) -> do
       lo <- constInt a
       hi <- constInt b
+      -- MT-ARR-4 (MT-VERR-37, MT-VERR-38) and MT-VERR-44: MasterTool's
+      -- bounds run from 0 upwards, at most 65536 elements
+      when mt $ do
+        when (lo < 0) (failC "value-out-of-limits" (exprPos a) ("the lower bound " <> T.pack (show lo) <> " of an array cannot be negative (MT-ARR-4)"))
+        when (hi < lo) (failC "min-greater-than-max" (exprPos a) ("the array bounds " <> T.pack (show lo) <> ".." <> T.pack (show hi) <> " have the minimum above the maximum (MT-ARR-4)"))
+        when (hi - lo + 1 > 65536) (failC "invalid-array-size" (exprPos a) "an array has at most 65536 elements (MT-VERR-44)")
       when (hi < lo) (failC "value-out-of-limits" (exprPos a) "the upper bound of an array is below its lower bound")
-      when (lo < -32768 || hi > 32767) (failC "value-out-of-limits" (exprPos a) "array bounds lie within the range of INT (TC-TYPE-40)")
+      when (not mt && (lo < -32768 || hi > 32767)) (failC "value-out-of-limits" (exprPos a) "array bounds lie within the range of INT (TC-TYPE-40)")
       pure (lo, hi)
     TArray bs <$> resolveType t
   TSStruct _ ds -> do
@@ -868,6 +899,10 @@ initialValue ty base = \case
             VArray _ xs | Just x <- Seq.lookup 0 xs -> x
             _ -> defaultValue t
       let size = fromInteger (product [hi - lo + 1 | (lo, hi) <- bs]) :: Int
+      -- MT-ARR-7 (MT-VERR-30): a MasterTool list gives every element
+      mt <- masterToolSource
+      when (mt && length items /= size) $
+        failC "wrong-initializer-count" p ("the array has " <> T.pack (show size) <> " elements but the list gives " <> T.pack (show (length items)) <> " values (MT-VERR-30)")
       vals <- concat <$> forM items (\(rep, i) -> do
         n <- maybe (pure 1) constInt rep
         -- TC-TYPE-43: a repetition fits the array, checked before it is built
@@ -916,6 +951,10 @@ checkPou p = do
       Just g | viType g == viType v -> pure ()
       Just g -> failC "external-mismatch" (viPos v) ("VAR_EXTERNAL " <> viName v <> " is a " <> typeText (viType v) <> "; the global is a " <> typeText (viType g) <> " (NX-VAR-13)")
       Nothing -> failC "external-mismatch" (viPos v) ("VAR_EXTERNAL " <> viName v <> " names no global variable (NX-VAR-13, NX-ERR-32)")
+  -- MT-POU-3, MT-POU-12: a MasterTool FUNCTION or PROGRAM has a statement
+  -- (a lone ; will do)
+  when (pSourceForm pol == MasterToolSource && null (pouBody p) && pouKind p `elem` [KFunction, KProgram]) $
+    failC "missing-statement" (pouPos p) "a FUNCTION or PROGRAM needs at least one statement; a lone ; will do (MT-POU-12)"
   body <- checkStmts (pouBody p)
   members <- checkMembers p
   inits <- checkInits [(b, d) | b <- pouVars p, d <- vbDecls b]
@@ -1063,8 +1102,14 @@ checkStmt = \case
   SAssign p target value -> do
     -- MT-STMT-20, MT-VERR-29: a FOR's control variable is not written in its body
     fors <- asks envForVars
+    mt <- masterToolSource
     case target of
       EVar tp n | key n `elem` fors -> failC "for-variable-written" tp ("the FOR control variable " <> n <> " cannot be written inside its FOR (MT-VERR-29)")
+      EVar tp n | mt -> do
+        found <- lookupName tp n
+        case found of
+          Just (_, TArray {}, _) -> wholeArray tp n
+          _ -> plainAssign p target value
       _ -> plainAssign p target value
   SCall p callee args -> Just <$> checkCallStmt p callee args
   SIf p arms els -> do
@@ -1151,6 +1196,10 @@ masterToolLabels = go []
       | (c, _) : _ <- filter (\(c, d) -> c <= b && a <= d) seen = failC "case-value-duplicated" p ("the value " <> T.pack (show (max a c)) <> " is already used by another case of this CASE (MT-VERR-27)")
       | otherwise = go ((a, b) : seen) rest
 
+-- | Decision A22: MasterTool uses an array element by element only.
+wholeArray :: Pos -> Text -> C a
+wholeArray p n = failC "whole-array-use" p ("the array " <> n <> " is used element by element, e.g. " <> n <> "[i] (decision A22)")
+
 -- | The position of a CASE label (its first value).
 labelPos :: CaseLabel -> Pos
 labelPos = \case
@@ -1234,7 +1283,12 @@ checkRef = \case
     case r of
       Just x -> pure x
       Nothing -> listedGlobal p n >> failC "undeclared-variable" p ("the variable " <> n <> " is not declared")
-  ELocated _ loc -> pure (CLocated loc (locationType loc), locationType loc, Writable)
+  ELocated lp loc -> do
+    -- MT-MAP-2: a MasterTool module reaches an operand through a variable
+    -- mapped with AT only; its grammar has no operand in the code
+    mt <- masterToolSource
+    when mt $ failC "expected-token" lp ("the operand " <> locText loc <> " is reached through a variable declared AT it (MT-MAP-2)")
+    pure (CLocated loc (locationType loc), locationType loc, Writable)
   EField p (EVar gp g) f -> do
     -- NX-OP-89, NX-VAR-35: a global list's name before its variable
     isVar <- isJust <$> lookupName gp g
@@ -1556,7 +1610,23 @@ settle (ce, f) = case f of
 -- | An untyped literal given a type, if the literal can have it; a literal
 -- outside the type's range is @value-out-of-limits@.
 coerceLit :: Type -> TExpr -> C (Maybe CExpr)
-coerceLit t (ce, f) = case (f, baseElem t) of
+coerceLit t (ce, f) = do
+  mt <- masterToolSource
+  case (f, baseElem t) of
+    -- MT-CONST-2 (Table 4-15): MasterTool's BOOL literals are also 0 and 1
+    (FlexInt n, Just BOOL) | mt -> do
+      unless (n == 0 || n == 1) (failC "value-out-of-limits" (cePos ce) ("the literal " <> T.pack (show n) <> " is not a BOOL: 0, 1, FALSE or TRUE (MT-CONST-2)"))
+      pure (Just (lit BOOL (VBool (n == 1))))
+    -- MT-CONST-2, decision A10: an integer literal is a REAL through the
+    -- implicit INT to REAL, so only within INT's range
+    (FlexInt n, Just REAL) | mt, not (fitInt INT n) -> failC "value-out-of-limits" (cePos ce) ("the literal " <> T.pack (show n) <> " lies outside INT's range, the integers a REAL takes (MT-CONST-2)")
+    _ -> coerceIec t (ce, f)
+  where
+    lit e v = ce {ceType = TElem e, ceNode = CConst v}
+
+-- | 'coerceLit' by the IEC rules.
+coerceIec :: Type -> TExpr -> C (Maybe CExpr)
+coerceIec t (ce, f) = case (f, baseElem t) of
   (FlexInt n, Just e)
     | isInt e -> do
         unless (fitInt e n) (failC "value-out-of-limits" (cePos ce) ("the literal " <> T.pack (show n) <> " lies outside the range of " <> elemName e))
@@ -1605,7 +1675,9 @@ implicitAllowed :: ImplicitConversions -> Elem -> Elem -> Bool
 implicitAllowed ic from to = case ic of
   ImplicitNone -> False
   ImplicitCodesys -> (from, to) `elem` widening || codesys
-  _ -> (from, to) `elem` widening
+  -- MT-CONV-6 (A9): MasterTool's seven edges; USINT to REAL is explicit
+  ImplicitMastertool -> (from, to) `elem` widening && (from, to) /= (USINT, REAL)
+  ImplicitIecWidening -> (from, to) `elem` widening
   where
     -- NX-CONV-1..8: never to a narrower integer; the manual's own CTUD
     -- example stores a WORD in an INT (NX-CONV-7), so signedness and bit
@@ -1633,9 +1705,11 @@ infer expected = \case
       _ -> failC "type-mismatch" p (t <> " is not an enumeration")
   EVar p n -> do
     r <- lookupName p n
+    mt <- masterToolSource
     case r of
       Just (_, _, Hidden why) -> failC "read-not-allowed" p why
       Just (_, _, WriteOnly why) -> failC "read-not-allowed" p why
+      Just (_, TArray {}, _) | mt -> wholeArray p n
       Just (ref, ty, _) -> fixed p ty (CRead ref)
       Nothing -> do
         prop <- propertyAccess getterKey (EVar p n)
@@ -1802,6 +1876,10 @@ literal p = \case
 binaryExpr :: Maybe Type -> Pos -> BinOp -> Expr -> Expr -> C TExpr
 binaryExpr expected p o a b = do
   pol <- asks envPol
+  -- MT-OP-1, MT-OP-20: MasterTool's power is the function EXPT; its
+  -- grammar has no operator **
+  when (pSourceForm pol == MasterToolSource && o == BPow) $
+    failC "expected-token" p "MasterTool XE has no operator **; EXPT(base, exponent) raises to a power (MT-OP-20)"
   let operandExpected = if o `elem` [BLt, BGt, BLe, BGe, BEq, BNe] then Nothing else expected
   -- an operand whose type depends on its literals (ABS(1), 16#FF OR 16#0F)
   -- takes the other operand's type, as an untyped literal does; the other
@@ -2039,7 +2117,10 @@ callStandard expected p f args = do
       a <- positionalOnly
       case a of
         [x] -> do
-          cx <- checkExprAt (Just (TElem from)) x
+          cx0 <- checkExprAt (Just (TElem from)) x
+          -- MT-CONV-6: MasterTool widens a conversion's argument as any
+          -- other value (a USINT given to INT_TO_REAL)
+          cx <- if pSourceForm pol == MasterToolSource then assignable (TElem from) cx0 else pure cx0
           -- the argument has the type named first (TC-CONV-6, NX-CONV-10)
           unless (sameType (ceType cx) (TElem from)) (failC "type-mismatch" (exprPos x) (f <> " converts a " <> elemName from <> ", not a " <> typeText (ceType cx) <> " " <> citing pol ["TC-CONV-6", "NX-CONV-10"]))
           fixed p (resultOf to cx) (CConvert (resultOf to cx) cx)
@@ -2139,6 +2220,12 @@ callStandard expected p f args = do
           _ -> Nothing
     userCall pou = do
       vars <- asks (fromMaybe [] . M.lookup (key (pouName pou)) . envVarsOf)
+      -- MT-POU-5 (MT-VERR-20): a MasterTool call gives every input
+      let given = length args
+          inputs = length [v | v <- vars, viSection v == SecInput]
+      mt <- masterToolSource
+      when (mt && given < inputs) $
+        failC "too-few-arguments" p (f <> " takes " <> T.pack (show inputs) <> " argument(s) but is called with " <> T.pack (show given) <> " (MT-VERR-20)")
       (inputs, inouts, outputs) <- bindArgs p (pouName pou) vars args
       pol <- asks envPol
       unless (null outputs || pExtensions pol == ExtensionsCodesys) (failC "section-not-allowed" p "a FUNCTION has no outputs to bind with => (TC-VAR-10)")

@@ -264,6 +264,9 @@ identifier pol = lexeme pol $ do
           invalid ("the name '" <> w <> "' contains a national character; names use the letters A-Z only " <> citing pol ["TC-LEX-12", "NX-LEX-2"])
       | "__" `T.isInfixOf` w ->
           invalid ("the name '" <> w <> "' contains consecutive underscores, which are not allowed " <> citing pol ["TC-LEX-14", "NX-LEX-4"])
+      -- MT-LEX-6: a MasterTool name does not end in an underscore
+      | pSourceForm pol == MasterToolSource, T.length w > 1, "_" `T.isSuffixOf` w ->
+          invalid ("the name '" <> w <> "' ends in an underscore, which MasterTool XE does not allow (MT-LEX-6)")
       | upperName w `Set.member` keywordsOf pol -> empty <?> "a name"
       | otherwise -> do
           _ <- takeP Nothing (T.length w)

@@ -344,12 +344,6 @@ coreKindsOf = \case
   "invalid-binary-operation" -> ["type-mismatch"]
   "not-an-array" -> ["type-mismatch"]
   "for-type-mismatch" -> ["type-mismatch"]
-  -- MT-VERR-30, MT-VERR-38, MT-VERR-44: array bounds and initialisers out
-  -- of what the declaration allows
-  "wrong-initializer-count" -> ["value-out-of-limits"]
-  "min-greater-than-max" -> ["value-out-of-limits"]
-  "invalid-array-size" -> ["value-out-of-limits"]
-  "function-parameter-kind" -> ["section-not-allowed"] -- MT-VERR-36
   _ -> []
 
 -- | What a comparison finds.
