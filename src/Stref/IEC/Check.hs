@@ -26,7 +26,7 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (conversionName, convert)
-import Stref.IEC.Dialect.MasterTool (SignalUse (..), elementaryTypes, hasConversion, operandTakes, reservedWord, signalUse)
+import Stref.IEC.Dialect.MasterTool (SignalUse (..), dataAreaLimit, dataBytes, elementaryTypes, hasConversion, operandTakes, reservedWord, signalUse)
 import Stref.IEC.Memory (layout, sizeInBytes)
 import Stref.IEC.Operators (binary, binaryType, fitsUnder, unary, unaryType)
 import Stref.IEC.Standard (libraryFunction, shiftNames, standardParameters, standardType)
@@ -249,6 +249,19 @@ checkUnit pol choice (Unit decls) = runExcept $ do
         [v {viKey = staticPrefix (pouName p) <> viKey v} | p <- pous, v <- varsOf M.! key (pouName p), viSection v == SecStat]
           ++ [v {viKey = staticPrefix (pouName p <> "." <> m) <> viKey v} | p <- pous, (m, (_, vs)) <- M.toList (membersOf M.! key (pouName p)), v <- vs, viSection v == SecStat]
   checkRecursion pol False pous globalBlocks
+  -- MT-LIM-3, A26 (MT-VERR-43): a MasterTool module's unmapped variables,
+  -- the globals', the functions', then the program's, fit the data area;
+  -- the declaration that crosses the limit is the error
+  when (pSourceForm pol == MasterToolSource) $ do
+    let ownVars p = [v | v <- varsOf M.! key (pouName p), viKey v /= key (pouName p) || viSection v /= SecOutput]
+        unmapped =
+          [v | (_, vs) <- perBlock, v <- vs, isNothing (signalUse (viKey v))]
+            ++ concat [ownVars p | p <- pous, pouKind p == KFunction]
+            ++ concat [ownVars p | p <- pous, pouKind p == KProgram]
+        used = scanl1 (+) [dataBytes (viType v) | v <- unmapped, isNothing (viAt v)]
+    case [v | (v, n) <- zip [v | v <- unmapped, isNothing (viAt v)] used, n > dataAreaLimit] of
+      v : _ -> throwError (VerificationError "data-area-exceeded" (viPos v) ("the unmapped variables need " <> T.pack (show (last used)) <> " bytes of data area; the limit is " <> T.pack (show dataAreaLimit) <> " bytes, and this declaration crosses it (MT-VERR-43)"))
+      [] -> pure ()
   varConfig <- runReaderT (checkVarConfig pous varsOf ([(inst, TProgram t) | (inst, t) <- programRoots] ++ [(viName g, viType g) | g <- globals]) (concat [es | DVarConfig es <- decls])) env2
   forM_ configs $ \c -> forM_ (cfgResources c) $ \r ->
     when (T.null (resName r)) $ case map taskPos (resTasks r) ++ map pcPos (resPrograms r) of
@@ -956,6 +969,11 @@ checkPou p = do
   when (pSourceForm pol == MasterToolSource && null (pouBody p) && pouKind p `elem` [KFunction, KProgram]) $
     failC "missing-statement" (pouPos p) "a FUNCTION or PROGRAM needs at least one statement; a lone ; will do (MT-POU-12)"
   body <- checkStmts (pouBody p)
+  -- MT-POU-4 (MT-VERR-18): every path through a MasterTool function
+  -- assigns its result
+  when (pSourceForm pol == MasterToolSource && pouKind p == KFunction) $ case missingResult (key (pouName p)) (pouBody p) of
+    Just at -> failC "missing-return-value" (fromMaybe (pouPos p) at) ("a path through the function " <> pouName p <> " ends without assigning its result (MT-VERR-18)")
+    Nothing -> pure ()
   members <- checkMembers p
   inits <- checkInits [(b, d) | b <- pouVars p, d <- vbDecls b]
   initArgs <- checkInitArgs [d | b <- pouVars p, d <- vbDecls b]
@@ -976,6 +994,38 @@ checkPou p = do
       , pdChecked = key (pouName p) `notElem` checkFunctionNames && isNothing (attributeValue "no_check" (pouAttributes p)) -- NX-PRAGMA-8
       , pdMethods = members
       }
+
+-- | MT-POU-4: a path through a function's body that ends without assigning
+-- the result: Just the RETURN that leaves so, or Just Nothing for the end
+-- of the body; Nothing when every path assigns it. WHILE and FOR may run
+-- zero times, REPEAT runs once at least, EXIT leaves its loop.
+missingResult :: Text -> [Stmt] -> Maybe (Maybe Pos)
+missingResult result body = case flowList False body of
+  (_, _, p : _) -> Just (Just p)
+  (Just False, _, []) -> Just Nothing
+  _ -> Nothing
+  where
+    -- (assigned when falling through, assigned at the EXITs, the RETURNs
+    -- reached unassigned); Nothing where no path falls through
+    flowList d = \case
+      [] -> (Just d, Nothing, [])
+      s : ss -> case flowStmt d s of
+        (Nothing, x, bad) -> (Nothing, x, bad)
+        (Just d', x, bad) -> let (n2, x2, bad2) = flowList d' ss in (n2, joinM x x2, bad ++ bad2)
+    flowStmt d = \case
+      SAssign _ (EVar _ n) _ | key n == result -> (Just True, Nothing, [])
+      SReturn p -> (Nothing, Nothing, [p | not d])
+      SExit _ -> (Nothing, Just d, [])
+      SIf _ arms els -> joinAll (map (flowList d . snd) arms ++ [flowList d els])
+      SCase _ _ arms els -> joinAll (map (flowList d . snd) arms ++ [flowList d els])
+      SWhile _ _ b -> let (_, _, bad) = flowList d b in (Just d, Nothing, bad)
+      SFor _ _ _ _ _ b -> let (_, _, bad) = flowList d b in (Just d, Nothing, bad)
+      SRepeat _ b _ -> let (n, x, bad) = flowList d b in (joinM n x, Nothing, bad)
+      _ -> (Just d, Nothing, [])
+    joinM (Just a) (Just b) = Just (a && b)
+    joinM Nothing b = b
+    joinM a Nothing = a
+    joinAll rs = (foldr (joinM . (\(n, _, _) -> n)) Nothing rs, foldr (joinM . (\(_, x, _) -> x)) Nothing rs, concatMap (\(_, _, b) -> b) rs)
 
 -- | NX-VAR-24, NX-VAR-25: the initial values that are no constants,
 -- checked as expressions of the scope, in declaration order.
@@ -1099,18 +1149,7 @@ checkStmt = \case
             v <- checkExprAt (Just ty) value >>= assignable ty
             pure (Just (CEval p (CExpr p (TElem BOOL) (CMethod d ref [(n, v)] [] []))))
           Nothing -> plainAssign p target value
-  SAssign p target value -> do
-    -- MT-STMT-20, MT-VERR-29: a FOR's control variable is not written in its body
-    fors <- asks envForVars
-    mt <- masterToolSource
-    case target of
-      EVar tp n | key n `elem` fors -> failC "for-variable-written" tp ("the FOR control variable " <> n <> " cannot be written inside its FOR (MT-VERR-29)")
-      EVar tp n | mt -> do
-        found <- lookupName tp n
-        case found of
-          Just (_, TArray {}, _) -> wholeArray tp n
-          _ -> plainAssign p target value
-      _ -> plainAssign p target value
+  SAssign p target value -> plainAssign p target value
   SCall p callee args -> Just <$> checkCallStmt p callee args
   SIf p arms els -> do
     arms' <- forM arms $ \(c, b) -> (,) <$> condition c <*> checkStmts b
@@ -1223,6 +1262,16 @@ masterToolFor p v = do
 -- | An assignment to a variable.
 plainAssign :: Pos -> Expr -> Expr -> C (Maybe CStmt)
 plainAssign p target value = do
+  -- MT-STMT-20, MT-VERR-29: a FOR's control variable is not written in its
+  -- body; A22: nor a MasterTool array as a whole
+  fors <- asks envForVars
+  mt <- masterToolSource
+  case target of
+    EVar tp n | key n `elem` fors -> failC "for-variable-written" tp ("the FOR control variable " <> n <> " cannot be written inside its FOR (MT-VERR-29)")
+    EVar tp n | mt -> lookupName tp n >>= \case
+      Just (_, TArray {}, _) -> wholeArray tp n
+      _ -> pure ()
+    _ -> pure ()
   (ref, ty) <- checkTarget target
   v <- checkExprAt (Just ty) value >>= assignable ty
   pol <- asks envPol

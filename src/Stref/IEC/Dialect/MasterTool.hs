@@ -26,9 +26,12 @@ module Stref.IEC.Dialect.MasterTool
   , hasConversion
   , SignalUse (..)
   , signalUse
+  , dataBytes
+  , dataAreaLimit
   ) where
 
 import qualified Data.Text as T
+import Stref.Check (dataAreaLimit)
 import Stref.Conversions (lookupConversionFunction)
 import Stref.Lexical (WordClass (..), classifyWord)
 import Stref.IEC.Syntax (Location (..))
@@ -150,3 +153,16 @@ signalUse k
   | k `elem` ["INPUT1", "INPUT2", "INPUT3", overflowFlagName] = Just ReadSignal
   | k `elem` ["OUTPUT1", "OUTPUT2", "OUTPUT3"] = Just WriteSignal
   | otherwise = Nothing
+
+-- | MT-LIM-3 (A26): the bytes of data area an unmapped variable takes: a
+-- BOOL one, the others their width, an array its elements'.
+dataBytes :: Type -> Integer
+dataBytes = \case
+  TElem e -> elemBytes e
+  TArray bs t -> product [hi - lo + 1 | (lo, hi) <- bs] * dataBytes t
+  _ -> 0
+  where
+    elemBytes e
+      | e `elem` [INT, WORD] = 2
+      | e `elem` [DINT, DWORD, REAL] = 4
+      | otherwise = 1

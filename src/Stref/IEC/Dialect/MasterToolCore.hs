@@ -50,7 +50,28 @@ import Stref.Verification (VerificationError (..))
 checkedOnCore :: Policies -> Request -> Either VerificationError (Unit, Program)
 checkedOnCore pol rq = do
   u <- withSignals <$> parseUnit pol (T.unpack (rqCase rq)) (rqSource rq)
-  (u,) <$> checkUnit pol ProgramsOfConfiguration u
+  -- the verifier reports the first error of the module: the checker's or
+  -- one of the rules of the module's kind, whichever stands first
+  case (checkUnit pol ProgramsOfConfiguration u, moduleKindRules (T.toUpper (rqModule rq) == "F") u) of
+    (Right prog, Nothing) -> Right (u, prog)
+    (Right _, Just k) -> Left k
+    (Left e, Just k) | vePos k < vePos e -> Left k
+    (Left e, _) -> Left e
+
+-- | The rules of the module's kind, which is the configuration's and not
+-- the source's: a procedure (P) module has no parameters (MT-PARAM-2,
+-- MT-VERR-35); a function (F) module at most 10 inputs (VAR_INPUT and
+-- VAR_IN_OUT) and 10 outputs (MT-PARAM-1, MT-VERR-33, MT-VERR-34).
+moduleKindRules :: Bool -> Unit -> Maybe VerificationError
+moduleKindRules isF (Unit decls) = case [p | DPou p <- decls, pouKind p == KProgram] of
+  p : _
+    | not isF, b : _ <- parameterBlocks p -> Just (VerificationError "procedure-parameters" (vbPos b) "a procedure (P) module takes no parameters; VAR_INPUT, VAR_IN_OUT and VAR_OUTPUT need a function (F) module (MT-VERR-35)")
+    | isF, (n, _) : _ <- drop 10 (names [SecInput, SecInOut] p) -> Just (VerificationError "too-many-inputs" n "an F module has at most 10 VAR_INPUT and VAR_IN_OUT parameters together (MT-VERR-33)")
+    | isF, (n, _) : _ <- drop 10 (names [SecOutput] p) -> Just (VerificationError "too-many-outputs" n "an F module has at most 10 VAR_OUTPUT parameters (MT-VERR-34)")
+  _ -> Nothing
+  where
+    parameterBlocks p = [b | b <- pouVars p, vbSection b `elem` [SecInput, SecInOut, SecOutput]]
+    names secs p = [n | b <- pouVars p, vbSection b `elem` secs, d <- vbDecls b, n <- vdNames d]
 
 -- | MT-SIG-1: the module's signals INPUT1..3 and OUTPUT1..3, BOOL variables
 -- the controller declares for every module.
