@@ -25,9 +25,7 @@ acceptedAtLeast = 757
 -- into the core (docs/architecture.md). A new disagreement fails the test,
 -- and so does a listed one that disappears (the list is then shortened).
 knownDisagreements :: [(String, String)]
-knownDisagreements =
-  [ ("mastertool-xe/conversions/c51-real-to-word", "MT-CONV C51: REAL_TO_WORD goes through DINT (truncate, saturate to DINT, keep the low word); the core's conversion saturates to WORD's range")
-  ]
+knownDisagreements = []
 
 -- | The reason a case was declined, without what is particular to the case.
 reasonGroup :: T.Text -> T.Text

@@ -2118,6 +2118,17 @@ callExpr expected p f args
         _ -> pure (ce, flex)
   | otherwise = callStandard expected p f args
 
+-- | A MasterTool conversion to the type as the core's conversions: Table
+-- 4-6's row for the value's type, the identity for the type itself; REAL
+-- to WORD (C51) and, for ANY_TO_, to BYTE, USINT and DWORD (MT-CONV-7,
+-- decision A8) truncate to DINT and keep that DINT's low bits, so two
+-- conversions of the core (real-to-int, then narrow-int).
+masterToolConversion :: Elem -> CExpr -> CNode
+masterToolConversion to cx
+  | sameType (ceType cx) (TElem to) = ceNode cx
+  | ceType cx == TElem REAL, to `elem` [BYTE, WORD, DWORD, USINT] = CConvert (TElem to) (CExpr (cePos cx) (TElem DINT) (CConvert (TElem DINT) cx))
+  | otherwise = CConvert (TElem to) cx
+
 -- | MT-OP-21, MT-VERR-10: the functions a MasterTool module calls are EXPT,
 -- the conversions of Table 4-6 (MT-CONV) and the module's functions
 -- declared before the caller (MT-SCOPE-2); the core's other standard
@@ -2160,8 +2171,25 @@ callStandard expected p f args = do
   pol <- asks envPol
   pous <- asks envPous
   let k = key f
-  when (pSourceForm pol == MasterToolSource) (masterToolFunction p f)
+  let mt = pSourceForm pol == MasterToolSource
+  when mt (masterToolFunction p f)
+  -- MT-OP-20: EXPT's exponent is a USINT
+  case args of
+    [_, ArgPositional ex] | mt, k == "EXPT" -> () <$ (checkExprAt (Just (TElem USINT)) ex >>= assignable (TElem USINT))
+    _ -> pure ()
   case conversionName pol k of
+    -- MT-CONV-8: ANY_TO_<T> converts by the row of Table 4-6 for its
+    -- argument's type (the identity for T itself)
+    _ | mt, Just to <- T.stripPrefix "ANY_TO_" k >>= parseElemName -> do
+      a <- positionalOnly
+      case a of
+        [x] -> do
+          te <- infer Nothing x
+          cx <- case te of
+            (_, FlexReal _) -> coerceLit (TElem REAL) te >>= maybe (settle te) pure
+            _ -> settle te
+          fixed p (TElem to) (masterToolConversion to cx)
+        _ -> failC "too-many-arguments" p (f <> " takes one argument")
     Just (from, to) -> do -- TC-CONV-6
       a <- positionalOnly
       case a of
@@ -2169,10 +2197,12 @@ callStandard expected p f args = do
           cx0 <- checkExprAt (Just (TElem from)) x
           -- MT-CONV-6: MasterTool widens a conversion's argument as any
           -- other value (a USINT given to INT_TO_REAL)
-          cx <- if pSourceForm pol == MasterToolSource then assignable (TElem from) cx0 else pure cx0
+          cx <- if mt then assignable (TElem from) cx0 else pure cx0
           -- the argument has the type named first (TC-CONV-6, NX-CONV-10)
           unless (sameType (ceType cx) (TElem from)) (failC "type-mismatch" (exprPos x) (f <> " converts a " <> elemName from <> ", not a " <> typeText (ceType cx) <> " " <> citing pol ["TC-CONV-6", "NX-CONV-10"]))
-          fixed p (resultOf to cx) (CConvert (resultOf to cx) cx)
+          if mt
+            then fixed p (TElem to) (masterToolConversion to cx)
+            else fixed p (resultOf to cx) (CConvert (resultOf to cx) cx)
         _ -> failC "too-many-arguments" p (f <> " takes one argument")
     Nothing -> case M.lookup k pous of
       Just pou
