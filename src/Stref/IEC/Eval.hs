@@ -65,13 +65,15 @@ import Stref.Policy
 import Stref.Trace
 
 -- | The controller's state between and during cycles.
+-- The maps are strict fields, so that a long cycle (millions of steps up to
+-- the budget) leaves no chain of pending updates behind.
 data Machine = Machine
-  { mGlobals :: M.Map Text Value
-  , mPrograms :: M.Map Text Value -- ^ program instances by key
-  , mFrames :: M.Map Int Value -- ^ function frames by call depth
-  , mMemory :: M.Map (Char, Integer) Integer -- ^ located bytes by area and address
-  , mClock :: Integer -- ^ the virtual clock, milliseconds
-  , mSteps :: Int -- ^ statements and loop tests executed in this cycle
+  { mGlobals :: !(M.Map Text Value)
+  , mPrograms :: !(M.Map Text Value) -- ^ program instances by key
+  , mFrames :: !(M.Map Int Value) -- ^ function frames by call depth
+  , mMemory :: !(M.Map (Char, Integer) Integer) -- ^ located bytes by area and address
+  , mClock :: !Integer -- ^ the virtual clock, milliseconds
+  , mSteps :: !Int -- ^ statements and loop tests executed in this cycle
   , mTrace :: Maybe Tracer -- ^ the events of a traced run (docs/trace.md); Nothing: not traced
   }
   deriving (Eq, Show)
@@ -388,6 +390,22 @@ tick p = do
   when (n >= budget) $ asks cxPol >>= \pol -> fault p (watchdogFault pol budget)
   modify' (\m -> m {mSteps = n + 1})
 
+-- | MT-EXEC-7 (error 2030): a MasterTool module's budget counts a loop
+-- statement once on entering it, besides its tests (the count of the
+-- MasterTool modules, Stref.Eval); an IEC cycle counts the tests only.
+-- REPEAT's step is at its UNTIL, where its tests are.
+loopEntry :: Pos -> Eval ()
+loopEntry p = do
+  pol <- asks cxPol
+  when (pSourceForm pol == MasterToolSource) (tick p)
+
+-- | The position of a REPEAT's test: its UNTIL under MasterTool (MT-EXEC-7,
+-- as 'loopEntry'), the REPEAT's own otherwise.
+repeatTestPos :: Pos -> CExpr -> Eval Pos
+repeatTestPos p c = do
+  pol <- asks cxPol
+  pure (if pSourceForm pol == MasterToolSource then cePos c else p)
+
 -- | The watchdog's error when the cycle exceeds its budget of steps.
 watchdogFault :: Policies -> Int -> Fault
 watchdogFault pol budget = Fault "watchdog" ("the cycle ran more than " <> T.pack (show budget) <> " steps: the watchdog ends it (cycle error, " <> T.intercalate ", " (citedIds pol (faultRules "watchdog")) <> ")")
@@ -620,20 +638,23 @@ exec = \case
             else note (LoopExit l (k - 1))
     note (Rule l (decision ["TC-STMT-32", "NX-STMT-27"] "the condition is tested before each iteration"))
     note (LoopEnter l "WHILE")
+    loopEntry p
     loop 1
   CRepeat p body c -> do
     -- TC-STMT-33: at least once, until the condition holds
+    testPos <- repeatTestPos p c
     let l = posLine p
         loop k = do
           continue <- iteration l k (loopBody body)
           if continue
             then do
-              tick p
+              tick testPos
               v <- eval c
               if asBool v then note (LoopExit l k) else loop (k + 1)
             else note (LoopExit l k)
     note (Rule l (decision ["TC-STMT-33", "NX-STMT-31"] "the body runs first, the condition is tested after each iteration"))
     note (LoopEnter l "REPEAT")
+    loopEntry testPos
     loop 1
   CExit p -> tick p >> note (Statement (posLine p)) >> throwError SigExit
   CReturn p -> tick p >> note (Statement (posLine p)) >> throwError SigReturn
@@ -690,6 +711,7 @@ forLoop p r t start end step body = do
   pol <- asks cxPol
   let stepOf = maybe (pure (forDefaultStep t)) eval step
       l = posLine p
+  loopEntry p
   s0 <- eval start
   target <- refPath p r
   storeTarget p t r target s0

@@ -311,8 +311,6 @@ coreAnswer pol rq = do
                 err <- case stop of
                   Nothing -> Right Nothing
                   Just (StopFault p f) -> case masterToolCode (faultKind f) of
-                    -- MT-EXEC-7: the two evaluators count the step budget differently
-                    Just 2030 -> Left "the step budget (2030): counted otherwise than by the MasterTool engine"
                     Just code -> Right (Just (posLine p, (code, (0, 0, 0))))
                     Nothing -> Left ("the runtime error " <> faultKind f <> ", which has no MasterTool code")
                 -- MT-PARAM-5, MT-PARAM-3, A19: after a normal end the VAR_IN_OUT
