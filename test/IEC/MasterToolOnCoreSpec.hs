@@ -18,7 +18,7 @@ import Test.Hspec
 
 -- | What the slice covers today; raise it when the slice grows.
 acceptedAtLeast :: Int
-acceptedAtLeast = 757
+acceptedAtLeast = 912
 
 -- | The cases on which the two disagree, each with the rule that makes the
 -- difference: a rule of MasterTool the core does not have yet, to be moved
