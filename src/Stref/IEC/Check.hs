@@ -1180,7 +1180,7 @@ checkStmt = \case
     s <- checkExprAt (Just ty) start >>= assignable ty
     e <- checkExprAt (Just ty) end >>= assignable ty
     st <- traverse (\x -> checkExprAt (Just ty) x >>= assignable ty) step
-    b <- local (\env -> env {envLoop = True, envForVars = key v : envForVars env}) (checkStmts body)
+    b <- local (\env -> env {envLoop = True, envForVars = [key v | mt] ++ envForVars env}) (checkStmts body)
     pure (Just (CFor p ref ty s e st b))
   SWhile p c body -> do
     c' <- condition c
