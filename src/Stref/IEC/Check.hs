@@ -1232,7 +1232,7 @@ masterToolLabels = go []
     go _ [] = pure ()
     go seen ((p, (a, b)) : rest)
       | a > b = failC "min-greater-than-max" p ("the range " <> T.pack (show a) <> ".." <> T.pack (show b) <> " has its minimum above its maximum (MT-VERR-38)")
-      | (c, _) : _ <- filter (\(c, d) -> c <= b && a <= d) seen = failC "case-value-duplicated" p ("the value " <> T.pack (show (max a c)) <> " is already used by another case of this CASE (MT-VERR-27)")
+      | used@(_ : _) <- [max a c | (c, d) <- seen, c <= b, a <= d] = failC "case-value-duplicated" p ("the value " <> T.pack (show (minimum used)) <> " is already used by another case of this CASE (MT-VERR-27)")
       | otherwise = go ((a, b) : seen) rest
 
 -- | Decision A22: MasterTool uses an array element by element only.
