@@ -408,9 +408,17 @@ slotAt cx a t = do
 -- slots (where every variable starts): a pointer's target is found again at
 -- each @^@.
 slotAtOf :: Cx -> Type -> Integer -> Maybe (Int, Type)
-slotAtOf cx t = \a -> if a >= 0 && a <= toInteger (maxBound :: Int) then fromMaybe (slotAt cx a t) (IM.lookup (fromInteger a) known) else slotAt cx a t
+slotAtOf cx t
+  -- the store's addresses close together (as they are): a table by address
+  | not (null addresses), hi - lo < 1048576 =
+      let table = V.accum (\_ x -> Just x) (V.replicate (fromInteger (hi - lo + 1)) Nothing) [(fromInteger (a - lo), slotAt cx a t) | a <- addresses]
+       in \a -> if a >= lo && a <= hi then fromMaybe (slotAt cx a t) (table V.! fromInteger (a - lo)) else slotAt cx a t
+  | otherwise = \a -> if a >= 0 && a <= toInteger (maxBound :: Int) then fromMaybe (slotAt cx a t) (IM.lookup (fromInteger a) known) else slotAt cx a t
   where
-    known = IM.fromList [(fromInteger a, slotAt cx a t) | Just a <- V.toList (cAddresses cx)]
+    addresses = [a | Just a <- V.toList (cAddresses cx)]
+    lo = minimum addresses
+    hi = maximum addresses
+    known = IM.fromList [(fromInteger a, slotAt cx a t) | a <- addresses]
 
 -- | A function block type is the other or derived from it (NX-POU-43).
 derivedFrom :: Program -> Text -> Text -> Bool
@@ -953,10 +961,11 @@ pointee cx p e t = do
   Just $ (sh,) $ Target $ do
     v <- ptr
     case v of
-      VInt _ a | Just (o, ft) <- found a -> (\en -> (Slot (eStore en) o, ft)) <$> env
+      VInt _ a | Just target <- found a -> pure target
       _ -> abort Bail
 
-newtype Target = Target (forall s. M s (Place s, Type))
+-- | The store's slot a pointer's target starts at, and the type there.
+newtype Target = Target (forall s. M s (Int, Type))
 
 -- | The instance a call runs on, as the readable evaluator finds it (THIS,
 -- a pointer's target, a variable), with its type's key; Nothing outside the
@@ -970,7 +979,7 @@ receiver cx p = \case
     (sh, Target target) <- pointee cx p e t
     Just $ (sh,) $ Recv $
       target >>= \case
-        (pl, TFB k) -> pure (pl, k)
+        (o, TFB k) -> (\en -> (Slot (eStore en) o, k)) <$> env
         _ -> abort Bail
   r -> do
     (sh, Ref pl) <- ref cx p r
@@ -986,8 +995,8 @@ ref cx p r = (\(sh, w) -> (sh, placeOf w)) <$> whereIs cx p r
 
 -- | Where a reference lies, as far as the translation can tell: at an
 -- offset from the start of the store's slots, of the running POU's or of
--- THIS's, fixed or computed when the code runs (the indices); or anywhere
--- (a pointer's target, a standard FB's variable in its map). The first
+-- THIS's, fixed or computed when the code runs (the indices, a pointer's
+-- target); or anywhere (a standard FB's variable in its map). The first
 -- two are read and written without building a 'Place'.
 data Where = Fixed !Base !Int | Computed !Base !Offset | Anywhere !Ref
 
@@ -1083,7 +1092,7 @@ whereIs cx p = \case
     Just (s, Fixed InThis o)
   CDeref e t -> do
     (sh, Target target) <- pointee cx p e t
-    Just (sh, Anywhere (Ref (fst <$> target)))
+    Just (sh, Computed InStore (Offset (fst <$> target)))
   _ -> Nothing
 
 -- | An expression, as the readable @eval@, through the same meaning
