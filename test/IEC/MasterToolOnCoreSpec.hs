@@ -3,7 +3,9 @@
 -- through the IEC core (parser, checker, definitional evaluator, the
 -- controller's rules of Stref.IEC.Dialect.MasterToolCore). Wherever the core
 -- answers, the observable results must agree; the number of cases it
--- answers is a lower bound that can only go up as the slice grows.
+-- answers is a lower bound that can only go up as the slice grows. The
+-- same on generated modules (Stref.Generate.Program, explore's generator):
+-- every one must agree, over several calls and under each overflow policy.
 module IEC.MasterToolOnCoreSpec (spec) where
 
 import Data.List (sortOn)
@@ -13,8 +15,12 @@ import qualified Data.Text as T
 import Stref.Conformance.Case (Case (..), effectiveExpect)
 import Stref.Conformance.Corpus (Corpus (..), Entry (..), loadCorpus)
 import Stref.Conformance.Runner (buildRequest, casePolicies, defaultRunOptions)
+import Stref.Explore.Run (explorationRequest, generatedSource)
+import Stref.Generate.Program (GenConfig (..), defaultGenConfig, genModule)
 import Stref.IEC.Dialect.MasterToolCore
+import Stref.Policy (Overflow (..), Policies (..), mastertoolXE)
 import Test.Hspec
+import Test.QuickCheck
 
 -- | What the slice covers today; raise it when the slice grows.
 acceptedAtLeast :: Int
@@ -46,3 +52,18 @@ spec = describe "MasterTool XE on the IEC core" $ do
     mapM_ (\(r, n) -> putStrLn ("        " <> show n <> "  " <> T.unpack r)) (sortOn (Down . snd) (M.toList declined))
     map fst disagreeing `shouldBe` map (T.pack . fst) knownDisagreements
     agreeing `shouldSatisfy` (>= acceptedAtLeast)
+
+  it "agrees with the MasterTool engine on every generated module (several calls, each overflow policy and FOR alternative)" $
+    withMaxSuccess 150 . forAll (elements configs) $ \(cfg, pol) ->
+      forAll (resize 20 (genModule cfg)) $ \gm ->
+        forAll (choose (1, 3)) $ \calls ->
+          case compareOnCore pol (explorationRequest pol calls "generated" gm) of
+            Agree -> property True
+            other -> counterexample (T.unpack (generatedSource gm) <> "\n" <> show other) False
+  where
+    configs =
+      [ (defaultGenConfig, mastertoolXE)
+      , (defaultGenConfig, mastertoolXE {pOverflow = Wrap})
+      , (defaultGenConfig {gcTypeMaxFor = True, gcVariableForBounds = True}, mastertoolXE)
+      , (defaultGenConfig {gcShadowing = True}, mastertoolXE)
+      ]
