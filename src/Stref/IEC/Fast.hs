@@ -15,16 +15,20 @@
 -- "Stref.Eval"). Every variable is resolved to a slot of a flat mutable
 -- vector when the closures are built: an elementary value is one slot, a
 -- structure, an array or a user FB instance lays its parts out one after
--- the other ('Shape'), a standard FB instance is one slot holding its whole
--- instance, handed to its 'Native' meaning as it is. Each cycle loads the
--- machine's values into the slots, runs the closures in 'ST' and rebuilds
--- the machine from the slots. No rule is restated here: operators,
--- conversions, standard functions and FBs, stores into a declared type,
--- index checks, FOR's steps and the watchdog are the functions the readable
--- evaluator calls (exported by "Stref.IEC.Eval" for that), called in the
--- same order and at the same places, so that the results agree by
--- construction; test/IEC/FastSpec.hs checks that they do, on the corpus and
--- on generated programs.
+-- the other ('Shape'), a standard FB instance with a twin
+-- ("Stref.IEC.Fast.StandardFB") lays out its variables too, any other is
+-- one slot holding its whole instance, handed to its 'Native' meaning as it
+-- is. Each cycle (or batch of cycles) loads the machine's values into the
+-- slots, runs the closures in 'ST' and rebuilds the machine from the slots.
+-- No rule is restated here: operators, conversions, standard functions,
+-- stores into a declared type, index checks, FOR's steps and the watchdog
+-- are the functions the readable evaluator calls (exported by
+-- "Stref.IEC.Eval" for that), called in the same order and at the same
+-- places, so that the results agree by construction; where a case needs no
+-- policy, "Stref.IEC.Fast.Operators" computes it on 'Int' and
+-- test/IEC/FastOperatorsSpec.hs checks it against those functions.
+-- test/IEC/FastSpec.hs checks the whole on the corpus and on generated
+-- programs.
 --
 -- The slice: elementary types, strings and enumerations, pointers, arrays
 -- and structures of them, globals and program instance variables, standard
