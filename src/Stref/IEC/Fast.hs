@@ -614,10 +614,10 @@ stmt cx = \case
         x <- v
         x' <- fitted x
         Next <$ M (\e -> atBase b e o (\vec i -> MV.write vec i $! x'))
-      (Leaf, Computed b (Offset off)) -> do
+      (Leaf, Computed b c (Offset off)) -> do
         tk p
         x <- v
-        o <- off
+        o <- (c +) <$> off
         x' <- fitted x
         Next <$ M (\e -> atBase b e o (\vec i -> MV.write vec i $! x'))
       _ | Ref target <- placeOf w -> do
@@ -999,10 +999,11 @@ ref cx p r = (\(sh, w) -> (sh, placeOf w)) <$> whereIs cx p r
 
 -- | Where a reference lies, as far as the translation can tell: at an
 -- offset from the start of the store's slots, of the running POU's or of
--- THIS's, fixed or computed when the code runs (the indices, a pointer's
--- target); or anywhere (a standard FB's variable in its map). The first
--- two are read and written without building a 'Place'.
-data Where = Fixed !Base !Int | Computed !Base !Offset | Anywhere !Ref
+-- THIS's, fixed, or a fixed part (the fields) plus one computed when the
+-- code runs (the indices, a pointer's target); or anywhere (a standard
+-- FB's variable in its map). The first two are read and written without
+-- building a 'Place'.
+data Where = Fixed !Base !Int | Computed !Base !Int !Offset | Anywhere !Ref
 
 data Base = InStore | InSelf | InThis
 
@@ -1022,14 +1023,14 @@ slotOf b e o = atBase b e o Slot
 placeOf :: Where -> Ref
 placeOf = \case
   Fixed b o -> Ref (M (\e -> pure (slotOf b e o)))
-  Computed b (Offset off) -> Ref (off >>= \o -> M (\e -> pure (slotOf b e o)))
+  Computed b c (Offset off) -> Ref (off >>= \o -> M (\e -> pure (slotOf b e (c + o))))
   Anywhere r -> r
 
 -- | A read of an elementary value.
 readAt :: Where -> Ex
 readAt = \case
   Fixed b o -> Ex (M (\e -> atBase b e o MV.read))
-  Computed b (Offset off) -> Ex (off >>= \o -> M (\e -> atBase b e o MV.read))
+  Computed b c (Offset off) -> Ex (off >>= \o -> M (\e -> atBase b e (c + o) MV.read))
   Anywhere (Ref pl) -> Ex (pl >>= readLeaf)
 
 whereIs :: Cx -> Pos -> CRef -> Maybe (Shape, Where)
@@ -1045,7 +1046,7 @@ whereIs cx p = \case
     (m, s) <- member sh f
     Just $ (s,) $ case (w, m) of
       (Fixed b o, Right o') -> Fixed b (o + o')
-      (Computed b (Offset off), Right o') -> Computed b (Offset ((+ o') <$> off))
+      (Computed b c off, Right o') -> Computed b (c + o') off
       _ | Ref base <- placeOf w -> Anywhere (Ref ((`at` m) <$> base))
   CIndex r ixs -> do
     (Array bs e esz _, w) <- whereIs cx p r
@@ -1077,8 +1078,8 @@ whereIs cx p = \case
             pure (fromInteger (foldl (\acc ((lo, hi), x) -> acc * (hi - lo + 1) + (x - lo)) 0 (zip bs checked)) * esz)
     -- the array's place first, then the indices
     Just $ (e,) $ case w of
-      Fixed b o -> Computed b (Offset ((o +) <$> element))
-      Computed b (Offset off) -> Computed b (Offset (off >>= \o -> (o +) <$> element))
+      Fixed b o -> Computed b o (Offset element)
+      Computed b c (Offset off) -> Computed b c (Offset (off >>= \o -> (o +) <$> element))
       Anywhere (Ref base) -> Anywhere $ Ref $ do
         pl <- base
         o' <- element
@@ -1096,7 +1097,7 @@ whereIs cx p = \case
     Just (s, Fixed InThis o)
   CDeref e t -> do
     (sh, Target target) <- pointee cx p e t
-    Just (sh, Computed InStore (Offset (fst <$> target)))
+    Just (sh, Computed InStore 0 (Offset (fst <$> target)))
   _ -> Nothing
 
 -- | An expression, as the readable @eval@, through the same meaning
