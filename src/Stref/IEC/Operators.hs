@@ -36,6 +36,7 @@ module Stref.IEC.Operators
   , illTyped
   , divideInt
   , moduloInt
+  , strip
   ) where
 
 import Control.Applicative ((<|>))

@@ -14,7 +14,7 @@ module Stref.IEC.Parser
   ) where
 
 import Control.Monad (forM_, unless, void, when)
-import Data.Char (chr, digitToInt, isAlpha, isAscii, isAsciiLower, isAsciiUpper, isDigit, isHexDigit, isSpace, ord)
+import Data.Char (chr, digitToInt, isAlpha, isAscii, isAsciiLower, isAsciiUpper, isDigit, isHexDigit, isSpace)
 import qualified Data.List.NonEmpty as NE
 import Data.Maybe (fromMaybe, isJust)
 import qualified Data.Set as Set
@@ -23,7 +23,7 @@ import qualified Data.Text as T
 import Stref.IEC.Dialect.MasterTool (operandLocation)
 import Stref.IEC.Pragma (preprocessWith)
 import Stref.IEC.Syntax
-import Stref.IEC.Types (Elem (..), upperName)
+import Stref.IEC.Types (Elem (..), asciiUpper, upperName)
 import Stref.Operands (parseOperand)
 import Stref.Policy (ElsifKeyword (..), Extensions (..), IdentifierLength (..), NestedComments (..), Policies (..), SourceForm (..), citing)
 import Stref.Verification (VerificationError (..))
@@ -213,8 +213,6 @@ notClosed off opener k = do
 -- the time of a small case.
 caseless :: Text -> Parser Text
 caseless = tokens (\a b -> T.map asciiUpper a == T.map asciiUpper b)
-  where
-    asciiUpper c = if c >= 'a' && c <= 'z' then chr (ord c - 32) else c
 
 kw :: Policies -> Text -> Parser ()
 kw pol w = lexeme pol (try (caseless w *> notFollowedBy (satisfy isWordChar))) <?> T.unpack w

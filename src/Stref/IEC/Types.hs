@@ -23,6 +23,7 @@ module Stref.IEC.Types
   , baseElem
   , sameType
   , upperName
+  , asciiUpper
   ) where
 
 import Data.Char (chr, isAscii, ord)
@@ -200,5 +201,7 @@ upperName :: Text -> Text
 upperName t
   | T.all isAscii t = T.map asciiUpper t
   | otherwise = T.toUpper t
-  where
-    asciiUpper c = if c >= 'a' && c <= 'z' then chr (ord c - 32) else c
+
+-- | An ASCII letter in upper case; every other character as it is.
+asciiUpper :: Char -> Char
+asciiUpper c = if c >= 'a' && c <= 'z' then chr (ord c - 32) else c

@@ -33,7 +33,7 @@ import GHC.Exts (Int (I#))
 import GHC.Num (Integer (IS))
 import Stref.IEC.Conversions (convert)
 import Stref.IEC.Eval (fitWhy)
-import Stref.IEC.Operators (binary, rangeUnder)
+import Stref.IEC.Operators (binary, rangeUnder, strip)
 import Stref.IEC.Syntax (BinOp (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
@@ -51,9 +51,6 @@ binaryOn p op ta tb = case (strip ta, strip tb) of
   (TElem e, TElem e') | e == e', isInt e, intBits e <= 32 -> small e
   _ -> Binary (binary p op)
   where
-    strip = \case
-      TSubrange e _ _ -> TElem e
-      t -> t
     small e =
       let (lo, hi) = rangeUnder p e
           !lo' = fromInteger lo :: Int
