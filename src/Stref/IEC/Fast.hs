@@ -613,13 +613,13 @@ stmt cx = \case
         tk p
         x <- v
         x' <- fitted x
-        Next <$ M (\e -> atBase b e o (\vec i -> MV.write vec i $! x'))
+        Next <$ writeAt b o x'
       (Leaf, Computed b c (Offset off)) -> do
         tk p
         x <- v
         o <- (c +) <$> off
         x' <- fitted x
-        Next <$ M (\e -> atBase b e o (\vec i -> MV.write vec i $! x'))
+        Next <$ writeAt b o x'
       _ | Ref target <- placeOf w -> do
         tk p
         x <- v
@@ -1025,6 +1025,11 @@ placeOf = \case
   Fixed b o -> Ref (M (\e -> pure (slotOf b e o)))
   Computed b c (Offset off) -> Ref (off >>= \o -> M (\e -> pure (slotOf b e (c + o))))
   Anywhere r -> r
+
+-- | A write of an elementary value at an offset from a base.
+writeAt :: Base -> Int -> Value -> M s ()
+writeAt b o x = M (\e -> atBase b e o (\vec i -> MV.write vec i $! x))
+{-# INLINE writeAt #-}
 
 -- | A read of an elementary value.
 readAt :: Where -> Ex
