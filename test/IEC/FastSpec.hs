@@ -136,6 +136,16 @@ spec = describe "IEC.Fast: the fast evaluator gives the readable evaluator's cyc
     agreeOn tecomat (genProgram fullSupport)
   it "on generated nexto programs (pointers and methods among them)" $
     agreeOn nexto (genProgram codesysSupport)
+  -- the closures on Int decide by the policies where a result leaves its
+  -- type, a divisor is zero or an index its bounds: the other alternatives
+  it "on generated tecomat programs under the other alternatives of the policies the Int closures decide on" $
+    conjoin
+      [ agreeOn pol (genProgram fullSupport)
+      | pol <-
+          [ tecomat {pOverflow = Saturate, pModSign = ModSignEuclidean, pShortCircuit = ShortCircuit, pForBounds = ForOnce, pIndexOutOfRange = IndexClamp}
+          , tecomat {pOverflow = Trap, pTimeRange = TimeUnsigned, pForAtTypeMax = StopAtEnd, pIndexOutOfRange = IndexTrap}
+          ]
+      ]
   -- what makes the benchmarks of issue #23 fast: each cycle of theirs runs
   -- on the fast path, none handed to the readable evaluator
   describe "runs the IEC benchmarks of bench/programs on the fast path, and agrees on their first cycles" $

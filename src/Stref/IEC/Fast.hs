@@ -26,7 +26,10 @@
 -- "Stref.IEC.Eval" for that), called in the same order and at the same
 -- places, so that the results agree by construction; where a case needs no
 -- policy, "Stref.IEC.Fast.Operators" computes it on 'Int' and
--- test/IEC/FastOperatorsSpec.hs checks it against those functions.
+-- test/IEC/FastOperatorsSpec.hs checks it against those functions; an
+-- expression of a small type (an integer of at most 32 bits, BOOL, TIME)
+-- is computed on 'Int' the same way and boxed where it is stored or
+-- handed on ('intExpr').
 -- test/IEC/FastSpec.hs checks the whole on the corpus and on generated
 -- programs.
 --
@@ -54,12 +57,13 @@ module Stref.IEC.Fast
   , fastCycles
   ) where
 
-import Control.Monad (ap, forM, forM_, join, liftM, when)
+import Control.Monad (forM, forM_, join, when)
 import Control.Exception (Exception, throwIO, try)
 import Control.Monad.ST (ST, runST)
 import Control.Monad.ST.Unsafe (unsafeIOToST, unsafeSTToIO)
 import GHC.Exts (Int (I#))
 import GHC.Num (Integer (IS))
+import Data.Bits (xor, (.&.), (.|.))
 import Data.Foldable (foldlM)
 import Data.List (find)
 import qualified Data.IntMap.Lazy as IM
@@ -75,12 +79,12 @@ import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (truncTo)
 import Stref.IEC.Eval
-import Stref.IEC.Fast.Operators (Binary (..), Convert (..), Store (..), binaryOn, convertOn, storeOn)
+import Stref.IEC.Fast.Operators (Binary (..), Convert (..), Store (..), binaryOn, boolValue, convertOn, storeOn)
 import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
-import Stref.IEC.Operators (binary, unary, wrapUnder)
+import Stref.IEC.Operators (binary, rangeUnder, strip, unary, wrapUnder)
 import Stref.IEC.Standard (standard, timeFunction)
-import Stref.IEC.Syntax (BinOp (..), Pos (..), PouKind (..), Section (..))
+import Stref.IEC.Syntax (BinOp (..), Pos (..), PouKind (..), Section (..), UnOp (..))
 import Stref.IEC.Types
 import Stref.IEC.Values
 import Stref.Policy
@@ -226,12 +230,17 @@ instance Exception Aborted
 
 newtype M s a = M {unM :: Env s -> ST s a}
 
+-- | fmap and <*> are strict in the result: every value the closures
+-- compute is needed, and a lazy result would build a thunk at each step.
 instance Functor (M s) where
-  fmap = liftM
+  fmap f (M m) = M (\e -> m e >>= \x -> pure $! f x)
+  {-# INLINE fmap #-}
 
 instance Applicative (M s) where
   pure x = M (\_ -> pure x)
-  (<*>) = ap
+  {-# INLINE pure #-}
+  M mf <*> M mx = M (\e -> mf e >>= \f -> mx e >>= \x -> pure $! f x)
+  {-# INLINE (<*>) #-}
 
 instance Monad (M s) where
   M m >>= k = M $ \e -> m e >>= \x -> unM (k x) e
@@ -283,10 +292,10 @@ fit (Store store) p v = case store v of
 
 -- | A store into a target of a declared type, with the check function of a
 -- subrange where one applies (the readable @fitValue@).
-newtype Fitter = Fitter (forall s. Value -> M s Value)
+data Fitter = Fitter !(forall s. Value -> M s Value)
 
 -- | An implicit check function's call: its inputs' values, its result.
-newtype Checker = Checker (forall s. [Value] -> M s Value)
+data Checker = Checker !(forall s. [Value] -> M s Value)
 
 ------------------------------------------------------------------------------
 -- Places
@@ -295,7 +304,7 @@ newtype Checker = Checker (forall s. [Value] -> M s Value)
 -- instance (which lives in the instance's map).
 data Place s = Slot !(MV.MVector s Value) !Int | InFB !(MV.MVector s Value) !Int !Text
 
-newtype Ref = Ref (forall s. M s (Place s))
+data Ref = Ref !(forall s. M s (Place s))
 
 readPlace :: Shape -> Place s -> M s Value
 readPlace sh = \case
@@ -411,18 +420,18 @@ slotAt cx a t = do
 -- | 'slotAt' for one type, remembered for the addresses of the store's
 -- slots (where every variable starts): a pointer's target is found again at
 -- each @^@.
-slotAtOf :: Cx -> Type -> Integer -> Maybe (Int, Type)
+slotAtOf :: Cx -> Type -> Int -> Maybe (Int, Type)
 slotAtOf cx t
   -- the store's addresses close together (as they are): a table by address
   | not (null addresses), hi - lo < 1048576 =
-      let table = V.accum (\_ x -> Just x) (V.replicate (fromInteger (hi - lo + 1)) Nothing) [(fromInteger (a - lo), slotAt cx a t) | a <- addresses]
-       in \a -> if a >= lo && a <= hi then fromMaybe (slotAt cx a t) (table V.! fromInteger (a - lo)) else slotAt cx a t
-  | otherwise = \a -> if a >= 0 && a <= toInteger (maxBound :: Int) then fromMaybe (slotAt cx a t) (IM.lookup (fromInteger a) known) else slotAt cx a t
+      let !table = V.accum (\_ x -> Just x) (V.replicate (hi - lo + 1) Nothing) [(a - lo, slotAt cx (toInteger a) t) | a <- addresses]
+       in \a -> if lo <= a && a <= hi then fromMaybe (slotAt cx (toInteger a) t) (V.unsafeIndex table (a - lo)) else slotAt cx (toInteger a) t
+  | otherwise = \a -> fromMaybe (slotAt cx (toInteger a) t) (IM.lookup a known)
   where
-    addresses = [a | Just a <- V.toList (cAddresses cx)]
+    addresses = [fromInteger a | Just a <- V.toList (cAddresses cx), a >= 0, a <= toInteger (maxBound :: Int)] :: [Int]
     lo = minimum addresses
     hi = maximum addresses
-    known = IM.fromList [(fromInteger a, slotAt cx a t) | a <- addresses]
+    known = IM.fromList [(a, slotAt cx (toInteger a) t) | a <- addresses]
 
 -- | A function block type is the other or derived from it (NX-POU-43).
 derivedFrom :: Program -> Text -> Text -> Bool
@@ -436,24 +445,24 @@ data Code = Code Shape Body'
 
 newtype Body' = Body' (forall s. M s Flow)
 
-newtype Ex = Ex (forall s. M s Value)
+data Ex = Ex !(forall s. M s Value)
 
-newtype St = St (forall s. M s Flow)
+data St = St !(forall s. M s Flow)
 
 -- | What an FB call runs on the instance at these slots, of this type.
-newtype Callee = Callee (forall s. MV.MVector s Value -> Int -> Text -> M s ())
+data Callee = Callee !(forall s. MV.MVector s Value -> Int -> Text -> M s ())
 
 -- | An instance a call runs on, when the call runs: where it lies and its
 -- type's key (the dynamic type: a virtual call dispatches on it).
-newtype Recv = Recv (forall s. M s (Place s, Text))
+data Recv = Recv !(forall s. M s (Place s, Text))
 
 -- | A method as one type runs it: on the instance, with the inputs' values.
-newtype Invoke = Invoke (forall s. Place s -> Text -> [Value] -> M s Value)
+data Invoke = Invoke !(forall s. Place s -> Text -> [Value] -> M s Value)
 
 -- | A call of a POU on a frame of its own (a function, a method): the
 -- inputs' values in, the result out; the environment's change for the body
 -- (THIS of a method).
-newtype Framed = Framed (forall s. (Env s -> Env s) -> [Value] -> M s Value)
+data Framed = Framed !(forall s. (Env s -> Env s) -> [Value] -> M s Value)
 
 -- | How a statement ended: on to the next, or EXIT, RETURN, CONTINUE, a
 -- JMP to a label (upper case).
@@ -601,31 +610,53 @@ loopBody (St s) = s >>= \case
 
 stmt :: Cx -> CStmt -> Maybe St
 stmt cx = \case
-  CAssign p r t e -> do
-    -- TC-STMT-7: the value, then the target
-    Ex v <- expr cx e
-    (sh, w) <- whereIs cx p r
-    writable sh t (ceType e)
-    Fitter fitted <- fitter cx p t
-    Just $ St $ case (sh, w) of
-      -- an elementary value at an offset known or computed: no Place built
-      (Leaf, Fixed b o) -> do
-        tk p
-        x <- v
-        x' <- fitted x
-        Next <$ writeAt b o x'
-      (Leaf, Computed b c (Offset off)) -> do
-        tk p
-        x <- v
-        o <- (c +) <$> off
-        x' <- fitted x
-        Next <$ writeAt b o x'
-      _ | Ref target <- placeOf w -> do
-        tk p
-        x <- v
-        pl <- target
-        x' <- fitted x
-        Next <$ writePlace sh pl x'
+  CAssign p r t e
+    -- a small value into an elementary variable: the value the store
+    -- keeps as it is ('storeOn') is written without a check
+    | Just vs <- small (ceType e)
+    , Just keeps <- keptAsIs t vs
+    , Just (Leaf, w) <- whereIs cx p r
+    , Just (Fitter fitted) <- fitter cx p t
+    , Just (IEx i) <- intExpr cx vs e -> do
+        let store b o n = if keeps n then writeAt b o (boxed vs n) else fitted (boxed vs n) >>= writeAt b o
+        case w of
+          Fixed b o -> Just $ St $ do
+            tk p
+            n <- i
+            Next <$ store b o n
+          Computed b c (Offset off) -> Just $ St $ do
+            tk p
+            n <- i
+            o <- (c +) <$> off
+            Next <$ store b o n
+          Anywhere _ -> assign
+    | otherwise -> assign
+    where
+     assign = do
+      -- TC-STMT-7: the value, then the target
+      Ex v <- expr cx e
+      (sh, w) <- whereIs cx p r
+      writable sh t (ceType e)
+      Fitter fitted <- fitter cx p t
+      Just $ St $ case (sh, w) of
+        -- an elementary value at an offset known or computed: no Place built
+        (Leaf, Fixed b o) -> do
+          tk p
+          x <- v
+          x' <- fitted x
+          Next <$ writeAt b o x'
+        (Leaf, Computed b c (Offset off)) -> do
+          tk p
+          x <- v
+          o <- (c +) <$> off
+          x' <- fitted x
+          Next <$ writeAt b o x'
+        _ | Ref target <- placeOf w -> do
+          tk p
+          x <- v
+          pl <- target
+          x' <- fitted x
+          Next <$ writePlace sh pl x'
   CCallFB p c -> do
     St call <- callFB cx p c
     Just (St (tk p >> call))
@@ -634,10 +665,10 @@ stmt cx = \case
     Just (St (tk p >> Next <$ v))
   CIf p arms els -> do
     -- TC-STMT-9
-    arms' <- forM arms $ \(c, b) -> (,) <$> expr cx c <*> block cx b
+    arms' <- forM arms $ \(c, b) -> (,) <$> condition cx c <*> block cx b
     St els' <- block cx els
     let go [] = els'
-        go ((Ex c, St b) : rest) = c >>= \x -> if asBool x then b else go rest
+        go ((Cond c, St b) : rest) = c >>= \x -> if x then b else go rest
     Just (St (tk p >> go arms'))
   CCase p sel arms els -> do
     -- TC-STMT-11..13: the first group whose labels hold the value
@@ -653,25 +684,25 @@ stmt cx = \case
   CFor p r t start end step body -> forLoop cx p r t start end step body
   CWhile p c body -> do
     -- TC-STMT-32
-    Ex cond <- expr cx c
+    Cond cond <- condition cx c
     b <- block cx {cLoop = True} body
     let loop = do
           tk p
           x <- cond
-          if asBool x
+          if x
             then loopBody b >>= maybe (pure Next) (\case Next -> loop; fl -> pure fl)
             else pure Next
     Just (St loop)
   CRepeat p body c -> do
     -- TC-STMT-33: at least once, until the condition holds
-    Ex cond <- expr cx c
+    Cond cond <- condition cx c
     b <- block cx {cLoop = True} body
     let loop =
           loopBody b >>= \case
             Just Next -> do
               tk p
               x <- cond
-              if asBool x then pure Next else loop
+              if x then pure Next else loop
             Just fl -> pure fl
             Nothing -> pure Next
     Just (St loop)
@@ -683,7 +714,22 @@ stmt cx = \case
   _ -> Nothing
   where
     pol = cPol cx
-    tk = tick pol (pStepBudget pol)
+    !budget = pStepBudget pol
+    tk q = tick pol budget q
+
+-- | For a small value into a target of this type, which values 'storeOn'
+-- keeps as they are: an integer within an integer type's range, anything
+-- in another elementary type; Nothing where the store may check.
+keptAsIs :: Type -> Small -> Maybe (Int -> Bool)
+keptAsIs t vs = case (t, vs) of
+  (TElem e, SmallInt _ _)
+    | isInt e, intBits e <= 32 ->
+        let (lo, hi) = intRange e
+            !lo' = fromInteger lo :: Int
+            !hi' = fromInteger hi :: Int
+         in Just (\n -> lo' <= n && n <= hi')
+  (TElem e, _) | not (isInt e) -> Just (const True)
+  _ -> Nothing
 
 -- | A store into a target of a declared type, as the readable @fitValue@:
 -- a subrange's value goes through CheckRangeSigned or CheckRangeUnsigned
@@ -746,15 +792,72 @@ forLoop cx p r t start end step body = do
   b <- block cx {cLoop = True} body
   Fitter fitted <- fitter cx p t
   let pol = cPol cx
-      once = pForBounds pol == ForOnce
-  Just $ St $ do
+      !once = pForBounds pol == ForOnce
+      !budget = pStepBudget pol
+      current v ex = if once then pure v else ex
+      -- the increment (readable forIncrement, binary +, fitValue)
+      increment pl i' stNow = do
+        let (elemT, _, ends) = forIncrement pol t i' stNow
+        if ends
+          then pure False
+          else do
+            v <- orFault p (binary pol BAdd i' (VInt elemT stNow))
+            True <$ (fitted v >>= writePlace Leaf pl)
+      -- a small control variable, final value and step, on Int
+      typed = do
+        TElem !te <- Just t
+        ctl@(SmallInt _ _) <- small t
+        endS <- small (ceType end)
+        IEx endI <- intExpr cx endS end
+        IEx stepI <- case step of
+          Nothing -> (\n -> IEx (pure n)) <$> (case forDefaultStep t of VInt _ (IS n) -> Just (I# n); _ -> Nothing)
+          Just se -> small (ceType se) >>= \sm -> intExpr cx sm se
+        let (lo, hi) = rangeUnder pol te
+            !lo' = fromInteger lo :: Int
+            !hi' = fromInteger hi :: Int
+            !tag = fromEnum te
+        Just $ St $ do
+          x0 <- s0
+          pl <- target
+          fitted x0 >>= writePlace Leaf pl
+          e0' <- endI
+          st0 <- stepI
+          case pl of
+            -- the control variable's slot, read and written in place
+            Slot vec o -> do
+              let loop = do
+                    tick pol budget p
+                    e <- current e0' endI
+                    stp <- current st0 stepI
+                    i <- st (MV.read vec o) >>= unboxed ctl
+                    -- TC-STMT-21, TC-STMT-23
+                    if not (if stp >= 0 then i <= e else i >= e)
+                      then pure Next
+                      else
+                        loopBody b >>= \case
+                          Just Next -> do
+                            i' <- st (MV.read vec o)
+                            stNow <- current st0 stepI
+                            case i' of
+                              -- within the type: the sum, as binary + gives it
+                              VInt e' (IS x)
+                                | fromEnum e' == tag
+                                , let n = I# x + stNow
+                                , lo' <= n && n <= hi' -> st (MV.write vec o $! VInt te (toInteger n)) >> loop
+                              _ -> increment pl i' (toInteger stNow) >>= \case
+                                True -> loop
+                                False -> pure Next
+                          Just fl -> pure fl
+                          Nothing -> pure Next
+              loop
+            InFB {} -> abort Bail
+  Just $ flip fromMaybe typed $ St $ do
     x0 <- s0
     pl <- target
     fitted x0 >>= writePlace Leaf pl
     e0' <- e0
     st0 <- stepOf
-    let current v ex = if once then pure v else ex
-        loop = do
+    let loop = do
           tick pol (pStepBudget pol) p
           e <- current e0' e0
           stp <- current st0 stepOf
@@ -766,13 +869,9 @@ forLoop cx p r t start end step body = do
                 Just Next -> do
                   i' <- readPlace Leaf pl
                   stNow <- current st0 stepOf
-                  let (elemT, _, ends) = forIncrement pol t i' (intOf stNow)
-                  if ends
-                    then pure Next
-                    else do
-                      v <- orFault p (binary pol BAdd i' (VInt elemT (intOf stNow)))
-                      fitted v >>= writePlace Leaf pl
-                      loop
+                  increment pl i' (intOf stNow) >>= \case
+                    True -> loop
+                    False -> pure Next
                 Just fl -> pure fl
                 Nothing -> pure Next
     loop
@@ -959,17 +1058,18 @@ callMethod cx p d r ins outs = do
 pointee :: Cx -> Pos -> CExpr -> Type -> Maybe (Shape, Target)
 pointee cx p e t = do
   Nothing <- implicit cx p "CHECKPOINTER"
-  Ex ptr <- expr cx e
+  -- an address is a DWORD (NX-TYPE-75)
+  IEx ptr <- intExpr cx (smallInt DWORD) e
   sh <- shapeOf (cProg cx) t
-  let found = slotAtOf cx t
+  let !found = slotAtOf cx t
   Just $ (sh,) $ Target $ do
-    v <- ptr
-    case v of
-      VInt _ a | Just target <- found a -> pure target
+    a <- ptr
+    case found a of
+      Just target -> pure target
       _ -> abort Bail
 
 -- | The store's slot a pointer's target starts at, and the type there.
-newtype Target = Target (forall s. M s (Int, Type))
+data Target = Target !(forall s. M s (Int, Type))
 
 -- | The instance a call runs on, as the readable evaluator finds it (THIS,
 -- a pointer's target, a variable), with its type's key; Nothing outside the
@@ -1007,7 +1107,7 @@ data Where = Fixed !Base !Int | Computed !Base !Int !Offset | Anywhere !Ref
 
 data Base = InStore | InSelf | InThis
 
-newtype Offset = Offset (forall s. M s Int)
+data Offset = Offset !(forall s. M s Int)
 
 -- | The slots and the index of the slot at an offset from a base.
 atBase :: Base -> Env s -> Int -> (MV.MVector s Value -> Int -> r) -> r
@@ -1064,7 +1164,19 @@ whereIs cx p = \case
           Just (Checker call) -> intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
           Nothing -> pure n0
         -- the offset of the element from the array's start
-        Offset element = case (is, bs, check) of
+        !(Offset element) = case (ixs, bs, check) of
+          -- one small index within the bounds: no policy applies
+          ([ix], [b@(lo, hi)], Nothing)
+            | Just sm@(SmallInt _ _) <- small (ceType ix)
+            , Just (IEx i) <- intExpr cx sm ix ->
+                let !lo' = fromInteger lo :: Int
+                    !hi' = fromInteger hi :: Int
+                 in Offset $ i >>= \x ->
+                      if lo' <= x && x <= hi'
+                        then pure ((x - lo') * esz)
+                        else (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b (toInteger x)))
+          _ -> elementOf
+        elementOf = case (is, bs, check) of
           -- one index within the bounds: no policy applies
           ([Ex i], [b@(lo, hi)], Nothing) ->
             let !lo' = fromInteger lo :: Int
@@ -1106,9 +1218,22 @@ whereIs cx p = \case
   _ -> Nothing
 
 -- | An expression, as the readable @eval@, through the same meaning
--- functions.
+-- functions: an operator or a conversion whose result is a small value
+-- computes on 'Int' ('small'), the rest on values.
 expr :: Cx -> CExpr -> Maybe Ex
-expr cx ce = case ceNode ce of
+expr cx ce = case (ceNode ce, small (ceType ce)) of
+  (CBinary {}, Just sm) -> onInt sm
+  (CUnary {}, Just sm) -> onInt sm
+  (CConvert {}, Just sm) -> onInt sm
+  _ -> exprValue cx ce
+  where
+    onInt sm = do
+      IEx i <- intExpr cx sm ce
+      Just (Ex (boxed sm <$> i))
+
+-- | An expression computed on values.
+exprValue :: Cx -> CExpr -> Maybe Ex
+exprValue cx ce = case ceNode ce of
   CConst v -> Just (Ex (pure v))
   CRead r -> do
     (sh, w) <- whereIs cx pos r
@@ -1123,7 +1248,7 @@ expr cx ce = case ceNode ce of
     Ex x <- expr cx a
     Ex y0 <- expr cx b
     -- NX-ERR-11..13: CheckDiv*'s result is the divisor
-    let Binary operator = binaryOn pol o (ceType a) (ceType b)
+    let !(Binary operator) = binaryOn pol o (ceType a) (ceType b)
     check <- case (o, baseElem (ceType b) >>= checkDivName) of
       (BDiv, Just name) -> implicit cx pos name
       _ -> Just Nothing
@@ -1143,7 +1268,7 @@ expr cx ce = case ceNode ce of
     Just (Ex (x >>= orFault pos . truncTo pol e))
   CConvert t a -> do
     Ex x <- expr cx a
-    let Convert conversion = convertOn pol (ceType a) t
+    let !(Convert conversion) = convertOn pol (ceType a) t
     Just (Ex (x >>= orFault pos . conversion))
   -- NX-OP-87: TIME(), the clock in TIME's 32 bits
   CStandard f [] | f == timeFunction -> Just (Ex (VTime TIME . wrapUnder pol TIME . eClock <$> env))
@@ -1167,3 +1292,183 @@ expr cx ce = case ceNode ce of
   where
     pol = cPol cx
     pos = cePos ce
+
+------------------------------------------------------------------------------
+-- Small values on Int
+
+-- | A value of an integer type of at most 32 bits, of BOOL or of TIME,
+-- which the typed closures hold as an 'Int' (BOOL as 0 or 1, TIME as its
+-- milliseconds) and box only where a value is stored or handed on. (An
+-- integer's type comes with the number of its constructor, which a
+-- value's is compared with.)
+data Small = SmallInt !Elem {-# UNPACK #-} !Int | SmallBool | SmallTime
+  deriving (Eq)
+
+small :: Type -> Maybe Small
+small t = case strip t of
+  TElem BOOL -> Just SmallBool
+  TElem TIME -> Just SmallTime
+  TElem e | isInt e, intBits e <= 32 -> Just $! smallInt e
+  _ -> Nothing
+
+smallInt :: Elem -> Small
+smallInt e = SmallInt e (fromEnum e)
+
+-- | An expression whose value is small, computed on 'Int'.
+data IEx = IEx !(forall s. M s Int)
+
+boxed :: Small -> Int -> Value
+boxed sm n = case sm of
+  SmallInt e _ -> VInt e (toInteger n)
+  SmallBool -> boolValue (n /= 0)
+  SmallTime -> VTime TIME (toInteger n)
+{-# INLINE boxed #-}
+
+-- | The Int of a small value of the expected form; any other form (which
+-- the checked program does not produce) leaves the cycle to the readable
+-- evaluator.
+unboxed :: Small -> Value -> M s Int
+unboxed sm v = case (sm, v) of
+  (SmallInt _ t, VInt e' (IS x)) | fromEnum e' == t -> pure (I# x)
+  (SmallBool, VBool b) -> pure (if b then 1 else 0)
+  (SmallTime, VTime TIME (IS x)) -> pure (I# x)
+  _ -> abort Bail
+{-# INLINE unboxed #-}
+
+-- | The readable meaning of an operator on small operands, for the cases
+-- the closures leave to it (a result outside the type, a zero divisor, an
+-- operator without an Int case).
+viaBinary :: Policies -> Pos -> BinOp -> Small -> Small -> Int -> Int -> M s Int
+viaBinary pol p o sm rsm x y = orFault p (binary pol o (boxed sm x) (boxed sm y)) >>= unboxed rsm
+{-# NOINLINE viaBinary #-}
+
+-- | A small expression, as 'expr' computes it: each operator's Int case is
+-- the one "Stref.IEC.Fast.Operators" takes ('binaryOn', 'convertOn',
+-- checked there against the readable functions), the rest the readable
+-- function's.
+intExpr :: Cx -> Small -> CExpr -> Maybe IEx
+intExpr cx sm ce = case ceNode ce of
+  CConst v | Just n <- constant v -> Just (IEx (pure n))
+  CRead r
+    | Just (Leaf, w) <- whereIs cx pos r -> case w of
+        -- the slot's value unboxed in the same closure
+        Fixed b o -> Just $ IEx $ case sm of
+          SmallInt _ t -> M $ \e -> atBase b e o MV.read >>= \case
+            VInt e' (IS x) | fromEnum e' == t -> pure (I# x)
+            _ -> unM (abort Bail) e
+          SmallBool -> M $ \e -> atBase b e o MV.read >>= \case
+            VBool x -> pure (fromEnum x)
+            _ -> unM (abort Bail) e
+          SmallTime -> M (\e -> atBase b e o MV.read) >>= unboxed SmallTime
+        Computed b c (Offset off) -> Just (IEx (off >>= \o -> M (\e -> atBase b e (c + o) MV.read) >>= unboxed sm))
+        Anywhere _ -> viaValue
+  CBinary o a b
+    | Just sa <- small (ceType a)
+    , small (ceType b) == Just sa
+    , Just Nothing <- divCheck o b -> do
+        IEx x <- intExpr cx sa a
+        IEx y <- intExpr cx sa b
+        let slow = viaBinary pol pos o sa sm
+            numeric e =
+              let (lo, hi) = rangeUnder pol e
+                  !lo' = fromInteger lo :: Int
+                  !hi' = fromInteger hi :: Int
+                  -- TC-OP-20: an exact result within the range is kept
+                  exact g = both x y (\u v -> let n = g u v in if lo' <= n && n <= hi' then pure n else slow u v)
+                  {-# INLINE exact #-}
+                  -- TC-OP-21, TC-OP-23: truncation toward zero, the dividend's sign
+                  dividing g = both x y (\u v -> if v == 0 then slow u v else let n = g u v in if lo' <= n && n <= hi' then pure n else slow u v)
+                  {-# INLINE dividing #-}
+                  compared g = both x y (\u v -> pure (fromEnum (g u v)))
+                  {-# INLINE compared #-}
+               in case o of
+                    BAdd -> exact (+)
+                    BSub -> exact (-)
+                    BMul -> exact (*)
+                    BDiv | pModSign pol == ModSignDividend -> dividing quot
+                    BMod | pModSign pol == ModSignDividend -> dividing rem
+                    BLt -> compared (<)
+                    BGt -> compared (>)
+                    BLe -> compared (<=)
+                    BGe -> compared (>=)
+                    BEq -> compared (==)
+                    BNe -> compared (/=)
+                    -- TC-OP-39: bit by bit (two's complement, as Integer's)
+                    BAnd -> both x y (\u v -> pure (u .&. v))
+                    BOr -> both x y (\u v -> pure (u .|. v))
+                    BXor -> both x y (\u v -> pure (u `xor` v))
+                    _ -> both x y slow
+        case (sa, o) of
+          _ | not (fits sa o) -> both x y slow
+          -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first
+          (SmallBool, BAnd) | pShortCircuit pol == ShortCircuit -> Just (IEx (x >>= \u -> if u == 0 then pure 0 else y))
+          (SmallBool, BOr) | pShortCircuit pol == ShortCircuit -> Just (IEx (x >>= \u -> if u /= 0 then pure 1 else y))
+          (SmallBool, BAnd) -> both x y (\u v -> pure (u .&. v))
+          (SmallBool, BOr) -> both x y (\u v -> pure (u .|. v))
+          (SmallBool, BXor) -> both x y (\u v -> pure (u `xor` v))
+          (SmallBool, BEq) -> both x y (\u v -> pure (fromEnum (u == v)))
+          (SmallBool, BNe) -> both x y (\u v -> pure (fromEnum (u /= v)))
+          -- TC-OP-49, TC-OP-52: durations add and subtract in TIME's
+          -- range; they compare as their milliseconds
+          (SmallTime, _)
+            | o `elem` [BAdd, BSub, BLt, BGt, BLe, BGe, BEq, BNe] -> numeric TIME
+            | otherwise -> both x y slow
+          (SmallInt e _, _) -> numeric e
+          _ -> both x y slow
+  CUnary o a | Just sa <- small (ceType a) -> do
+    IEx x <- intExpr cx sa a
+    let slow u = orFault pos (unary pol o (boxed sa u)) >>= unboxed sm
+    Just $ IEx $ case (sa, o) of
+      _ | sm /= sa -> x >>= slow
+      (SmallBool, UNot) -> (1 -) <$> x
+      (SmallInt e _, UNeg) ->
+        let (lo, hi) = rangeUnder pol e
+            !lo' = fromInteger lo :: Int
+            !hi' = fromInteger hi :: Int
+         in x >>= \u -> let n = negate u in if lo' <= n && n <= hi' then pure n else slow u
+      _ -> x >>= slow
+  CConvert (TElem e) (CExpr _ _ (CStandard "TRUNC" [_])) | isInt e -> viaValue
+  -- TC-CONV-16: a number to TIME is milliseconds, and back
+  CConvert (TElem to) a | Just sa <- small (ceType a), sa /= SmallBool, sm /= SmallBool, small (TElem to) == Just sm -> do
+    IEx x <- intExpr cx sa a
+    let !(Convert conversion) = convertOn pol (ceType a) (TElem to)
+        (lo, hi) = rangeUnder pol to
+        !lo' = fromInteger lo :: Int
+        !hi' = fromInteger hi :: Int
+    -- an integer the target type's range holds is the same number
+    Just (IEx (x >>= \u -> if lo' <= u && u <= hi' then pure u else orFault pos (conversion (boxed sa u)) >>= unboxed sm))
+  _ -> viaValue
+  where
+    pol = cPol cx
+    pos = cePos ce
+    -- the result's form: an operator's operands' or BOOL
+    fits sa o
+      | o `elem` [BLt, BGt, BLe, BGe, BEq, BNe] = sm == SmallBool
+      | otherwise = sm == sa
+    constant v = case (sm, v) of
+      (SmallInt e _, VInt e' (IS x)) | e == e' -> Just (I# x)
+      (SmallBool, VBool b) -> Just (fromEnum b)
+      (SmallTime, VTime TIME (IS x)) -> Just (I# x)
+      _ -> Nothing
+    viaValue = do
+      Ex v <- exprValue cx ce
+      Just (IEx (v >>= unboxed sm))
+    both :: (forall s. M s Int) -> (forall s. M s Int) -> (forall s. Int -> Int -> M s Int) -> Maybe IEx
+    both x y f = Just (IEx (x >>= \u -> y >>= \v -> f u v))
+    {-# INLINE both #-}
+    -- NX-ERR-11..13: a division under CheckDiv* stays on values
+    divCheck o b = case (o, baseElem (ceType b) >>= checkDivName) of
+      (BDiv, Just name) -> implicit cx pos name
+      _ -> Just Nothing
+
+-- | A condition (IF, WHILE, REPEAT).
+data Cond = Cond !(forall s. M s Bool)
+
+condition :: Cx -> CExpr -> Maybe Cond
+condition cx ce = case small (ceType ce) of
+  Just SmallBool -> do
+    IEx i <- intExpr cx SmallBool ce
+    Just (Cond ((/= 0) <$> i))
+  _ -> do
+    Ex v <- expr cx ce
+    Just (Cond (asBool <$> v))

@@ -40,10 +40,10 @@ import Stref.IEC.Values
 import Stref.Policy
 
 -- | A binary operator on two values.
-newtype Binary = Binary (Value -> Value -> Either Fault Value)
+data Binary = Binary !(Value -> Value -> Either Fault Value)
 
 -- | A store into a target of a declared type: the value it keeps.
-newtype Store = Store (Value -> Either Fault Value)
+data Store = Store !(Value -> Either Fault Value)
 
 -- | 'binary' for operands of these types.
 binaryOn :: Policies -> BinOp -> Type -> Type -> Binary
@@ -118,7 +118,7 @@ storeOn pol t = case t of
     reference = fst . fitWhy pol t
 
 -- | A conversion from a type to another.
-newtype Convert = Convert (Value -> Either Fault Value)
+data Convert = Convert !(Value -> Either Fault Value)
 
 -- | 'convert' from this type to that: an integer to an integer type whose
 -- range holds it is the same number (no policy applies).

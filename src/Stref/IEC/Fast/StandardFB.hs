@@ -26,7 +26,7 @@ import Stref.Policy
 
 -- | A standard FB's meaning on an instance: the clock (milliseconds), the
 -- slots and where the instance starts in them.
-newtype Twin = Twin (forall s. Integer -> MV.MVector s Value -> Int -> ST s ())
+data Twin = Twin !(forall s. Integer -> MV.MVector s Value -> Int -> ST s ())
 
 -- | The FBs that have a twin, by key.
 twinNames :: [Text]
