@@ -79,7 +79,7 @@ import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (truncTo)
 import Stref.IEC.Eval
-import Stref.IEC.Fast.Operators (Binary (..), Convert (..), Store (..), binaryOn, boolValue, convertOn, storeOn)
+import Stref.IEC.Fast.Operators (Binary (..), Convert (..), IntCase (..), Store (..), binaryOn, boolValue, convertOn, intCase, storeOn)
 import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, rangeUnder, strip, unary, wrapUnder)
@@ -1373,31 +1373,18 @@ intExpr cx sm ce = case ceNode ce of
               let (lo, hi) = rangeUnder pol e
                   !lo' = fromInteger lo :: Int
                   !hi' = fromInteger hi :: Int
-                  -- TC-OP-20: an exact result within the range is kept
                   exact g = both x y (\u v -> let n = g u v in if lo' <= n && n <= hi' then pure n else slow u v)
                   {-# INLINE exact #-}
-                  -- TC-OP-21, TC-OP-23: truncation toward zero, the dividend's sign
                   dividing g = both x y (\u v -> if v == 0 then slow u v else let n = g u v in if lo' <= n && n <= hi' then pure n else slow u v)
                   {-# INLINE dividing #-}
                   compared g = both x y (\u v -> pure (fromEnum (g u v)))
                   {-# INLINE compared #-}
-               in case o of
-                    BAdd -> exact (+)
-                    BSub -> exact (-)
-                    BMul -> exact (*)
-                    BDiv | pModSign pol == ModSignDividend -> dividing quot
-                    BMod | pModSign pol == ModSignDividend -> dividing rem
-                    BLt -> compared (<)
-                    BGt -> compared (>)
-                    BLe -> compared (<=)
-                    BGe -> compared (>=)
-                    BEq -> compared (==)
-                    BNe -> compared (/=)
-                    -- TC-OP-39: bit by bit (two's complement, as Integer's)
-                    BAnd -> both x y (\u v -> pure (u .&. v))
-                    BOr -> both x y (\u v -> pure (u .|. v))
-                    BXor -> both x y (\u v -> pure (u `xor` v))
-                    _ -> both x y slow
+               in case intCase pol o of
+                    Exact g -> exact g
+                    Dividing g -> dividing g
+                    Compared g -> compared g
+                    Bitwise g -> both x y (\u v -> pure (g u v))
+                    NoIntCase -> both x y slow
         case (sa, o) of
           _ | not (fits sa o) -> both x y slow
           -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first

@@ -19,6 +19,8 @@
 module Stref.IEC.Fast.Operators
   ( Binary (..)
   , binaryOn
+  , IntCase (..)
+  , intCase
   , Store (..)
   , storeOn
   , Convert (..)
@@ -61,13 +63,11 @@ binaryOn p op ta tb = case (strip ta, strip tb) of
             (VInt ea (IS x), VInt eb (IS y)) | ea == e, eb == e -> f (I# x) (I# y) a b
             _ -> binary p op a b
           {-# INLINE on #-}
-          -- TC-OP-20: an exact result within the range is kept
           exact g = on $ \x y a b ->
             let n = g x y
              in if lo' <= n && n <= hi' then Right (VInt e (toInteger n)) else binary p op a b
           {-# INLINE exact #-}
-          -- TC-OP-21, TC-OP-23: truncation toward zero, the dividend's
-          -- sign; a zero divisor is the policies'
+          -- a zero divisor is the policies'
           dividing g = on $ \x y a b ->
             if y == 0
               then binary p op a b
@@ -77,23 +77,44 @@ binaryOn p op ta tb = case (strip ta, strip tb) of
           {-# INLINE dividing #-}
           compared g = on (\x y _ _ -> Right (boolValue (g x y)))
           bitwise g = on (\x y _ _ -> Right (VInt e (toInteger (g x y))))
-       in case op of
-            BAdd -> exact (+)
-            BSub -> exact (-)
-            BMul -> exact (*)
-            BDiv | pModSign p == ModSignDividend -> dividing quot
-            BMod | pModSign p == ModSignDividend -> dividing rem
-            BLt -> compared (<)
-            BGt -> compared (>)
-            BLe -> compared (<=)
-            BGe -> compared (>=)
-            BEq -> compared (==)
-            BNe -> compared (/=)
-            -- TC-OP-39: bit by bit (two's complement, as Integer's)
-            BAnd -> bitwise (.&.)
-            BOr -> bitwise (.|.)
-            BXor -> bitwise xor
-            _ -> Binary (binary p op)
+       in case intCase p op of
+            Exact g -> exact g
+            Dividing g -> dividing g
+            Compared g -> compared g
+            Bitwise g -> bitwise g
+            NoIntCase -> Binary (binary p op)
+
+-- | How an operator on two integers of at most 32 bits computes on 'Int'
+-- where no policy applies ('binaryOn', and the closures on Int of
+-- "Stref.IEC.Fast"): the exact result where it lies in the type's range
+-- (TC-OP-20), the same with a non-zero divisor (TC-OP-21, TC-OP-23:
+-- truncation toward zero, the dividend's sign), a comparison, the bits
+-- (TC-OP-39: two's complement, as Integer's); or none.
+data IntCase
+  = Exact (Int -> Int -> Int)
+  | Dividing (Int -> Int -> Int)
+  | Compared (Int -> Int -> Bool)
+  | Bitwise (Int -> Int -> Int)
+  | NoIntCase
+
+intCase :: Policies -> BinOp -> IntCase
+intCase p = \case
+  BAdd -> Exact (+)
+  BSub -> Exact (-)
+  BMul -> Exact (*)
+  BDiv | pModSign p == ModSignDividend -> Dividing quot
+  BMod | pModSign p == ModSignDividend -> Dividing rem
+  BLt -> Compared (<)
+  BGt -> Compared (>)
+  BLe -> Compared (<=)
+  BGe -> Compared (>=)
+  BEq -> Compared (==)
+  BNe -> Compared (/=)
+  BAnd -> Bitwise (.&.)
+  BOr -> Bitwise (.|.)
+  BXor -> Bitwise xor
+  _ -> NoIntCase
+{-# INLINE intCase #-}
 
 -- | 'fitWhy's value for a target of this type.
 storeOn :: Policies -> Type -> Store
