@@ -1156,27 +1156,28 @@ whereIs cx p = \case
   CIndex r ixs -> do
     (Array bs e esz _, w) <- whereIs cx p r
     when (length ixs /= length bs) Nothing
-    is <- mapM (expr cx) ixs
     -- NX-ERR-5..8: CheckBounds' result is the index
     check <- implicit cx p "CHECKBOUNDS"
     let pol = cPol cx
         bounded n0 (lo, hi) = case check of
           Just (Checker call) -> intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
           Nothing -> pure n0
-        -- the offset of the element from the array's start
-        !(Offset element) = case (ixs, bs, check) of
-          -- one small index within the bounds: no policy applies
-          ([ix], [b@(lo, hi)], Nothing)
-            | Just sm@(SmallInt _ _) <- small (ceType ix)
-            , Just (IEx i) <- intExpr cx sm ix ->
-                let !lo' = fromInteger lo :: Int
-                    !hi' = fromInteger hi :: Int
-                 in Offset $ i >>= \x ->
-                      if lo' <= x && x <= hi'
-                        then pure ((x - lo') * esz)
-                        else (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b (toInteger x)))
-          _ -> elementOf
-        elementOf = case (is, bs, check) of
+    -- the offset of the element from the array's start (each index
+    -- translated once: an index holds others)
+    Offset element <- case (ixs, bs, check) of
+      -- one small index within the bounds: no policy applies
+      ([ix], [b@(lo, hi)], Nothing)
+        | Just sm@(SmallInt _ _) <- small (ceType ix) -> do
+            IEx i <- intExpr cx sm ix
+            let !lo' = fromInteger lo :: Int
+                !hi' = fromInteger hi :: Int
+            Just $ Offset $ i >>= \x ->
+              if lo' <= x && x <= hi'
+                then pure ((x - lo') * esz)
+                else (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b (toInteger x)))
+      _ -> do
+        is <- mapM (expr cx) ixs
+        Just $ case (is, bs, check) of
           -- one index within the bounds: no policy applies
           ([Ex i], [b@(lo, hi)], Nothing) ->
             let !lo' = fromInteger lo :: Int
@@ -1349,8 +1350,9 @@ viaBinary pol p o sm rsm x y = orFault p (binary pol o (boxed sm x) (boxed sm y)
 intExpr :: Cx -> Small -> CExpr -> Maybe IEx
 intExpr cx sm ce = case ceNode ce of
   CConst v | Just n <- constant v -> Just (IEx (pure n))
-  CRead r
-    | Just (Leaf, w) <- whereIs cx pos r -> case w of
+  -- (a small value is elementary: a read that is no slot's is outside the slice)
+  CRead r -> whereIs cx pos r >>= \case
+    (Leaf, w) -> case w of
         -- the slot's value unboxed in the same closure
         Fixed b o -> Just $ IEx $ case sm of
           SmallInt _ t -> M $ \e -> atBase b e o MV.read >>= \case
@@ -1361,7 +1363,8 @@ intExpr cx sm ce = case ceNode ce of
             _ -> unM (abort Bail) e
           SmallTime -> M (\e -> atBase b e o MV.read) >>= unboxed SmallTime
         Computed b c (Offset off) -> Just (IEx (off >>= \o -> M (\e -> atBase b e (c + o) MV.read) >>= unboxed sm))
-        Anywhere _ -> viaValue
+        Anywhere (Ref pl) -> Just (IEx (pl >>= readLeaf >>= unboxed sm))
+    _ -> Nothing
   CBinary o a b
     | Just sa <- small (ceType a)
     , small (ceType b) == Just sa
