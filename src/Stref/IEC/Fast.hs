@@ -253,8 +253,10 @@ st act = M (const act)
 env :: M s (Env s)
 env = M pure
 
+-- | The closures under another environment (built before they run: a
+-- lazy one would be a thunk at every call).
 within :: (Env s -> Env s) -> M s a -> M s a
-within f (M m) = M (m . f)
+within f (M m) = M (\e -> m $! f e)
 
 abort :: Abort -> M s a
 abort a = M (\_ -> unsafeIOToST (throwIO (Aborted a)))
@@ -317,7 +319,7 @@ readLeaf = \case
   Slot v o -> st (MV.read v o)
   -- a missing variable reads as the readable getPath's default
   InFB v o k -> st (MV.read v o) >>= \case
-    VInstance _ m -> pure (M.findWithDefault (VBool False) k m)
+    VInstance _ m -> pure $! M.findWithDefault (VBool False) k m
     _ -> pure (VBool False)
 
 writePlace :: Shape -> Place s -> Value -> M s ()
@@ -1122,8 +1124,8 @@ slotOf b e o = atBase b e o Slot
 
 placeOf :: Where -> Ref
 placeOf = \case
-  Fixed b o -> Ref (M (\e -> pure (slotOf b e o)))
-  Computed b c (Offset off) -> Ref (off >>= \o -> M (\e -> pure (slotOf b e (c + o))))
+  Fixed b o -> Ref (M (\e -> pure $! slotOf b e o))
+  Computed b c (Offset off) -> Ref (off >>= \o -> M (\e -> pure $! slotOf b e (c + o)))
   Anywhere r -> r
 
 -- | A write of an elementary value at an offset from a base.
@@ -1173,7 +1175,7 @@ whereIs cx p = \case
                 !hi' = fromInteger hi :: Int
             Just $ Offset $ i >>= \x ->
               if lo' <= x && x <= hi'
-                then pure ((x - lo') * esz)
+                then pure $! (x - lo') * esz
                 else (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b (toInteger x)))
       _ -> do
         is <- mapM (expr cx) ixs
@@ -1183,7 +1185,7 @@ whereIs cx p = \case
             let !lo' = fromInteger lo :: Int
                 !hi' = fromInteger hi :: Int
              in Offset $ i >>= \case
-                  VInt _ (IS x) | lo' <= I# x && I# x <= hi' -> pure ((I# x - lo') * esz)
+                  VInt _ (IS x) | lo' <= I# x && I# x <= hi' -> pure $! (I# x - lo') * esz
                   VInt _ n -> (\n' -> fromInteger (n' - lo) * esz) <$> orFault p (fst (indexWhy pol b n))
                   _ -> abort Bail
           _ -> Offset $ do
@@ -1193,7 +1195,7 @@ whereIs cx p = \case
               _ -> abort Bail
             checked <- forM (zip ns bs) $ \(n0, b) -> bounded n0 b >>= \n -> orFault p (fst (indexWhy pol b n))
             -- TC-TYPE-43: the rightmost index varies fastest
-            pure (fromInteger (foldl (\acc ((lo, hi), x) -> acc * (hi - lo + 1) + (x - lo)) 0 (zip bs checked)) * esz)
+            pure $! fromInteger (foldl (\acc ((lo, hi), x) -> acc * (hi - lo + 1) + (x - lo)) 0 (zip bs checked)) * esz
     -- the array's place first, then the indices
     Just $ (e,) $ case w of
       Fixed b o -> Computed b o (Offset element)
@@ -1202,7 +1204,7 @@ whereIs cx p = \case
         pl <- base
         o' <- element
         case pl of
-          Slot v o -> pure (Slot v (o + o'))
+          Slot v o -> pure $! Slot v (o + o')
           InFB {} -> abort Bail
   -- NX-POU-28: THIS^, the instance the code runs on
   CThis -> do
@@ -1287,7 +1289,7 @@ exprValue cx ce = case ceNode ce of
     Just $ Ex $ do
       e <- env
       pl >>= \case
-        Slot v o | MV.overlaps v (eStore e), Just a <- join (cAddresses cx V.!? o) -> pure (VInt DWORD a)
+        Slot v o | MV.overlaps v (eStore e), Just a <- join (cAddresses cx V.!? o) -> pure $! VInt DWORD a
         _ -> abort Bail
   _ -> Nothing
   where
@@ -1331,7 +1333,7 @@ boxed sm n = case sm of
 unboxed :: Small -> Value -> M s Int
 unboxed sm v = case (sm, v) of
   (SmallInt _ t, VInt e' (IS x)) | fromEnum e' == t -> pure (I# x)
-  (SmallBool, VBool b) -> pure (if b then 1 else 0)
+  (SmallBool, VBool b) -> pure $! if b then 1 else 0
   (SmallTime, VTime TIME (IS x)) -> pure (I# x)
   _ -> abort Bail
 {-# INLINE unboxed #-}
@@ -1359,7 +1361,7 @@ intExpr cx sm ce = case ceNode ce of
             VInt e' (IS x) | fromEnum e' == t -> pure (I# x)
             _ -> unM (abort Bail) e
           SmallBool -> M $ \e -> atBase b e o MV.read >>= \case
-            VBool x -> pure (fromEnum x)
+            VBool x -> pure $! fromEnum x
             _ -> unM (abort Bail) e
           SmallTime -> M (\e -> atBase b e o MV.read) >>= unboxed SmallTime
         Computed b c (Offset off) -> Just (IEx (off >>= \o -> M (\e -> atBase b e (c + o) MV.read) >>= unboxed sm))
@@ -1380,24 +1382,24 @@ intExpr cx sm ce = case ceNode ce of
                   {-# INLINE exact #-}
                   dividing g = both x y (\u v -> if v == 0 then slow u v else let n = g u v in if lo' <= n && n <= hi' then pure n else slow u v)
                   {-# INLINE dividing #-}
-                  compared g = both x y (\u v -> pure (fromEnum (g u v)))
+                  compared g = both x y (\u v -> pure $! fromEnum (g u v))
                   {-# INLINE compared #-}
                in case intCase pol o of
                     Exact g -> exact g
                     Dividing g -> dividing g
                     Compared g -> compared g
-                    Bitwise g -> both x y (\u v -> pure (g u v))
+                    Bitwise g -> both x y (\u v -> pure $! g u v)
                     NoIntCase -> both x y slow
         case (sa, o) of
           _ | not (fits sa o) -> both x y slow
           -- TC-OP-6: short-circuit is a policy; TC-OP-5: the left operand first
           (SmallBool, BAnd) | pShortCircuit pol == ShortCircuit -> Just (IEx (x >>= \u -> if u == 0 then pure 0 else y))
           (SmallBool, BOr) | pShortCircuit pol == ShortCircuit -> Just (IEx (x >>= \u -> if u /= 0 then pure 1 else y))
-          (SmallBool, BAnd) -> both x y (\u v -> pure (u .&. v))
-          (SmallBool, BOr) -> both x y (\u v -> pure (u .|. v))
-          (SmallBool, BXor) -> both x y (\u v -> pure (u `xor` v))
-          (SmallBool, BEq) -> both x y (\u v -> pure (fromEnum (u == v)))
-          (SmallBool, BNe) -> both x y (\u v -> pure (fromEnum (u /= v)))
+          (SmallBool, BAnd) -> both x y (\u v -> pure $! u .&. v)
+          (SmallBool, BOr) -> both x y (\u v -> pure $! u .|. v)
+          (SmallBool, BXor) -> both x y (\u v -> pure $! u `xor` v)
+          (SmallBool, BEq) -> both x y (\u v -> pure $! fromEnum (u == v))
+          (SmallBool, BNe) -> both x y (\u v -> pure $! fromEnum (u /= v))
           -- TC-OP-49, TC-OP-52: durations add and subtract in TIME's
           -- range; they compare as their milliseconds
           (SmallTime, _)

@@ -1,4 +1,5 @@
 {-# OPTIONS_GHC -O2 #-}
+{-# LANGUAGE BangPatterns #-}
 {-# LANGUAGE RankNTypes #-}
 
 -- | The standard function blocks of "Stref.IEC.StandardFB" on the fast
@@ -126,7 +127,7 @@ twin pol name at = case key name of
         elapsed <- started now t i
         limit <- int i pt
         before <- bool i reached
-        let hit = elapsed >= limit
+        let !hit = elapsed >= limit
         setT i et (min elapsed limit)
         setB i q $ case pTimerQ pol of
           SameCycle -> hit
@@ -156,7 +157,8 @@ twin pol name at = case key name of
   -- TC-FB-29, TC-FB-30
   "TP" -> timer $ \now t@(input, pt, q, et, running, _, prev, _) i -> do
     on <- bool i input
-    rising <- (on &&) . not <$> bool i prev
+    before <- bool i prev
+    let !rising = on && not before
     setB i prev on
     limit <- int i pt
     run <- bool i running
@@ -200,7 +202,8 @@ started now (_, _, _, _, running, start, _, _) i = do
     else do
       setB i running True
       setT i start now
-  (now -) <$> int i start
+  s <- int i start
+  pure $! now - s
 
 -- | An instance's slots.
 data Inst s = Inst !(MV.MVector s Value) !Int
@@ -212,7 +215,7 @@ edge i input memory = do
   x <- bool i input
   m <- bool i memory
   setB i memory x
-  pure (x && not m)
+  pure $! x && not m
 
 -- | The variables as the reference reads them: a BOOL (FALSE when it is
 -- none), a number or a duration (0 when it is none).
@@ -230,7 +233,7 @@ int (Inst v b) o =
     _ -> pure 0
 
 setB :: Inst s -> Int -> Bool -> ST s ()
-setB (Inst v b) o x = MV.write v (b + o) (boolValue x)
+setB (Inst v b) o !x = MV.write v (b + o) (boolValue x)
 
 setI :: Inst s -> Elem -> Int -> Integer -> ST s ()
 setI (Inst v b) e o n = MV.write v (b + o) $! VInt e n
