@@ -76,8 +76,7 @@ spec = describe "IEC.Fast.Operators: the fast evaluator's operators against the 
     withMaxSuccess 20000 . forAll policies $ \pol ->
       forAll types $ \t ->
         forAll (valueFor t) $ \v ->
-          let Store f = storeOn pol t
-           in counterexample (show (t, v)) (show (f v) === show (fst (fitWhy pol t v)))
+          counterexample (show (t, v)) (show (stored (storeOn pol t) v) === show (fst (fitWhy pol t v)))
   it "convertOn gives convert's outcome" $
     withMaxSuccess 20000 . forAll policies $ \pol ->
       forAll ((,) <$> types <*> types) $ \(from, to) ->

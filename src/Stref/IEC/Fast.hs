@@ -62,6 +62,7 @@ import Control.Exception (Exception, throwIO, try)
 import Control.Monad.ST (ST, runST)
 import Control.Monad.ST.Unsafe (unsafeIOToST, unsafeSTToIO)
 import GHC.Exts (Int (I#))
+import GHC.ST (ST (..))
 import GHC.Num (Integer (IS))
 import Data.Bits (xor, (.&.), (.|.))
 import Data.Foldable (foldlM)
@@ -79,7 +80,7 @@ import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (truncTo)
 import Stref.IEC.Eval
-import Stref.IEC.Fast.Operators (Binary (..), Convert (..), IntCase (..), Store (..), binaryOn, boolValue, convertOn, intCase, storeOn)
+import Stref.IEC.Fast.Operators (Binary (..), Convert (..), IntCase (..), Store (..), binaryOn, boolValue, convertOn, intCase, storeOn, stored)
 import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, rangeUnder, strip, unary, wrapUnder)
@@ -247,8 +248,15 @@ instance Monad (M s) where
   {-# INLINE (>>=) #-}
 
 st :: ST s a -> M s a
-st act = M (const act)
+st act = M (\_ -> saturated act)
 {-# INLINE st #-}
+
+-- | An action called with the state at once: where the action is a
+-- closure not known here, GHC would otherwise make a partial call of it
+-- and apply the result to the state (a closure built at every call).
+saturated :: ST s a -> ST s a
+saturated (ST m) = ST (\s -> m s)
+{-# INLINE saturated #-}
 
 env :: M s (Env s)
 env = M pure
@@ -256,7 +264,7 @@ env = M pure
 -- | The closures under another environment (built before they run: a
 -- lazy one would be a thunk at every call).
 within :: (Env s -> Env s) -> M s a -> M s a
-within f (M m) = M (\e -> m $! f e)
+within f (M m) = M (\e -> let !e' = f e in saturated (m e'))
 
 abort :: Abort -> M s a
 abort a = M (\_ -> unsafeIOToST (throwIO (Aborted a)))
@@ -281,14 +289,15 @@ tick pol budget p = M $ \e -> do
 
 -- | The checks every call makes (@call-depth@).
 deeper :: Policies -> Pos -> M s ()
-deeper pol p = do
-  d <- eDepth <$> env
-  when (d >= pCallDepth pol) (abort (Faulted p (Fault "call-depth" "calls nest too deeply")))
+deeper pol p = M $ \e ->
+  if eDepth e >= pCallDepth pol
+    then unM (abort (Faulted p (Fault "call-depth" "calls nest too deeply"))) e
+    else pure ()
 
 -- | A store into a target of a declared type (the readable @fitValue@
 -- without check functions, which the slice leaves out).
 fit :: Store -> Pos -> Value -> M s Value
-fit (Store store) p v = case store v of
+fit store p v = case stored store v of
   Right x -> x `seq` pure x
   Left f -> abort (Faulted p f)
 
@@ -427,7 +436,9 @@ slotAtOf cx t
   -- the store's addresses close together (as they are): a table by address
   | not (null addresses), hi - lo < 1048576 =
       let !table = V.accum (\_ x -> Just x) (V.replicate (hi - lo + 1) Nothing) [(a - lo, slotAt cx (toInteger a) t) | a <- addresses]
-       in \a -> if lo <= a && a <= hi then fromMaybe (slotAt cx (toInteger a) t) (V.unsafeIndex table (a - lo)) else slotAt cx (toInteger a) t
+       in \a -> case if lo <= a && a <= hi then V.unsafeIndex table (a - lo) else Nothing of
+            Just known -> known
+            Nothing -> slotAt cx (toInteger a) t
   | otherwise = \a -> fromMaybe (slotAt cx (toInteger a) t) (IM.lookup a known)
   where
     addresses = [fromInteger a | Just a <- V.toList (cAddresses cx), a >= 0, a <= toInteger (maxBound :: Int)] :: [Int]
@@ -454,17 +465,36 @@ data St = St !(forall s. M s Flow)
 -- | What an FB call runs on the instance at these slots, of this type.
 data Callee = Callee !(forall s. MV.MVector s Value -> Int -> Text -> M s ())
 
--- | An instance a call runs on, when the call runs: where it lies and its
--- type's key (the dynamic type: a virtual call dispatches on it).
-data Recv = Recv !(forall s. M s (Place s, Text))
+-- | An instance a call runs on, found when the call runs: its slots, where
+-- it starts in them and its type's key (the dynamic type: a virtual call
+-- dispatches on it).
+data Recv = Recv !(forall s. M s (Found s))
+
+data Found s = Found !(MV.MVector s Value) !Int !Text
 
 -- | A method as one type runs it: on the instance, with the inputs' values.
-data Invoke = Invoke !(forall s. Place s -> Text -> [Value] -> M s Value)
+data Invoke = Invoke !(forall s. MV.MVector s Value -> Int -> Text -> Args -> M s Value)
+
+-- | The inputs' values of a call, in order.
+data Args = NoArgs | Arg !Value !Args
+
+-- | A call's inputs, evaluated in order.
+data EvalArgs = EvalArgs !(forall s. M s Args)
+
+evalArgs :: [Ex] -> EvalArgs
+evalArgs = foldr (\(Ex v) (EvalArgs more) -> EvalArgs (M (\e -> unM v e >>= \x -> unM more e >>= \xs -> pure $! Arg x xs))) (EvalArgs (pure NoArgs))
+
+-- | The inputs stored into an instance or a frame (its slots, where it
+-- starts), in order.
+data Stores = Stores !(forall s. MV.MVector s Value -> Int -> Args -> M s ())
+
+-- | A store of one input.
+data Put = Put !(forall s. MV.MVector s Value -> Int -> Value -> M s ())
 
 -- | A call of a POU on a frame of its own (a function, a method): the
 -- inputs' values in, the result out; the environment's change for the body
 -- (THIS of a method).
-data Framed = Framed !(forall s. (Env s -> Env s) -> [Value] -> M s Value)
+data Framed = Framed !(forall s. (Env s -> Env s) -> Args -> M s Value)
 
 -- | How a statement ended: on to the next, or EXIT, RETURN, CONTINUE, a
 -- JMP to a label (upper case).
@@ -592,16 +622,20 @@ translateOn cx this d = do
 block :: Cx -> [CStmt] -> Maybe St
 block cx ss = do
   sts <- mapM (stmt cx) ss
-  let go [] = pure Next
-      go (St s : rest) = s >>= \case
-        Next -> go rest
-        fl -> pure fl
+  let -- the statements chained once, here, rather than walked at each run
+      go = foldr andThen (St (pure Next))
+      andThen (St s) (St rest) = St (M (\e -> unM s e >>= \case
+        Next -> unM rest e
+        fl -> pure fl))
       -- each label's first place, the rest of the block from it
-      labels = M.fromListWith (\_ first -> first) [(l, drop i sts) | (i, CLabel _ l) <- zip [0 ..] ss]
-      run xs = go xs >>= \case
+      labels = M.fromListWith (\_ first -> first) [(l, go (drop i sts)) | (i, CLabel _ l) <- zip [0 ..] ss]
+      run (St xs) = xs >>= \case
         Jumped l | Just rest <- M.lookup l labels -> run rest
         fl -> pure fl
-  Just (St (if M.null labels then go sts else run sts))
+  Just $ case (M.null labels, sts) of
+    (True, [one]) -> one
+    (True, _) -> go sts
+    _ -> St (run (go sts))
 
 -- | A loop's body: Nothing when EXIT left the loop (TC-STMT-36, TC-STMT-37).
 loopBody :: St -> M s (Maybe Flow)
@@ -620,17 +654,19 @@ stmt cx = \case
     , Just (Leaf, w) <- whereIs cx p r
     , Just (Fitter fitted) <- fitter cx p t
     , Just (IEx i) <- intExpr cx vs e -> do
-        let store b o n = if keeps n then writeAt b o (boxed vs n) else fitted (boxed vs n) >>= writeAt b o
+        -- (on the environment: a closure built at each store would cost more
+        -- than the store)
+        let store b o n e = unM (if keeps n then writeAt b o (boxed vs n) else fitted (boxed vs n) >>= writeAt b o) e
         case w of
-          Fixed b o -> Just $ St $ do
-            tk p
-            n <- i
-            Next <$ store b o n
-          Computed b c (Offset off) -> Just $ St $ do
-            tk p
-            n <- i
-            o <- (c +) <$> off
-            Next <$ store b o n
+          Fixed b o -> Just $ St $ M $ \e -> do
+            unM (tk p) e
+            n <- unM i e
+            Next <$ store b o n e
+          Computed b c (Offset off) -> Just $ St $ M $ \e -> do
+            unM (tk p) e
+            n <- unM i e
+            o <- (c +) <$> unM off e
+            Next <$ store b o n e
           Anywhere _ -> assign
     | otherwise -> assign
     where
@@ -688,26 +724,30 @@ stmt cx = \case
     -- TC-STMT-32
     Cond cond <- condition cx c
     b <- block cx {cLoop = True} body
-    let loop = do
-          tk p
-          x <- cond
-          if x
-            then loopBody b >>= maybe (pure Next) (\case Next -> loop; fl -> pure fl)
-            else pure Next
-    Just (St loop)
+    Just $ St $ M $ \e ->
+      let run m = unM m e
+          loop = do
+            run (tk p)
+            x <- run cond
+            if x
+              then run (loopBody b) >>= maybe (pure Next) (\case Next -> loop; fl -> pure fl)
+              else pure Next
+       in loop
   CRepeat p body c -> do
     -- TC-STMT-33: at least once, until the condition holds
     Cond cond <- condition cx c
     b <- block cx {cLoop = True} body
-    let loop =
-          loopBody b >>= \case
-            Just Next -> do
-              tk p
-              x <- cond
-              if x then pure Next else loop
-            Just fl -> pure fl
-            Nothing -> pure Next
-    Just (St loop)
+    Just $ St $ M $ \e ->
+      let run m = unM m e
+          loop =
+            run (loopBody b) >>= \case
+              Just Next -> do
+                run (tk p)
+                x <- run cond
+                if x then pure Next else loop
+              Just fl -> pure fl
+              Nothing -> pure Next
+       in loop
   CExit p -> Just (St (Exited <$ tk p))
   CReturn p -> Just (St (Returned <$ tk p))
   CContinue p | cLoop cx -> Just (St (Continued <$ tk p)) -- NX-STMT-35
@@ -745,7 +785,11 @@ fitter cx p t = case t of
         (Just (Checker call), VInt e' n0) -> VInt e' . intValue <$> call [VInt DINT n0, VInt DINT lo, VInt DINT hi]
         _ -> pure v0
       fit store p v
-  _ -> Just (Fitter (fit store p))
+  _ -> Just $ case store of
+    -- (a function of every argument: 'pure' itself would be called as a
+    -- closure that builds one)
+    KeepsAll -> Fitter (\v -> M (\_ -> pure v))
+    _ -> Fitter (fit store p)
   where
     !store = storeOn (cPol cx) t
 
@@ -766,7 +810,7 @@ implicit cx p name
         Framed run <- framed cx p d sh body [(viKey v, viType v) | v <- params] []
         Just $ Just $ Checker $ \args -> do
           vs <- forM (zip params args) $ \(v, a) -> orFault p (convertValue (cPol cx) (viType v) a)
-          run id vs
+          run id (foldr Arg NoArgs vs)
   | otherwise = Just Nothing
   where
     isSubrange = \case
@@ -826,32 +870,35 @@ forLoop cx p r t start end step body = do
           st0 <- stepI
           case pl of
             -- the control variable's slot, read and written in place
-            Slot vec o -> do
-              let loop = do
-                    tick pol budget p
-                    e <- current e0' endI
-                    stp <- current st0 stepI
-                    i <- st (MV.read vec o) >>= unboxed ctl
+            -- (a loop in ST on this environment: a known function that
+            -- calls itself, not a closure entered again at each round)
+            Slot vec o -> M $ \en ->
+              let run m = unM m en
+                  loop = do
+                    run (tick pol budget p)
+                    e <- run (current e0' endI)
+                    stp <- run (current st0 stepI)
+                    i <- MV.read vec o >>= run . unboxed ctl
                     -- TC-STMT-21, TC-STMT-23
                     if not (if stp >= 0 then i <= e else i >= e)
                       then pure Next
                       else
-                        loopBody b >>= \case
+                        run (loopBody b) >>= \case
                           Just Next -> do
-                            i' <- st (MV.read vec o)
-                            stNow <- current st0 stepI
+                            i' <- MV.read vec o
+                            stNow <- run (current st0 stepI)
                             case i' of
                               -- within the type: the sum, as binary + gives it
                               VInt e' (IS x)
                                 | fromEnum e' == tag
                                 , let n = I# x + stNow
-                                , lo' <= n && n <= hi' -> st (MV.write vec o $! VInt te (toInteger n)) >> loop
-                              _ -> increment pl i' (toInteger stNow) >>= \case
+                                , lo' <= n && n <= hi' -> (MV.write vec o $! VInt te (toInteger n)) >> loop
+                              _ -> run (increment pl i' (toInteger stNow)) >>= \case
                                 True -> loop
                                 False -> pure Next
                           Just fl -> pure fl
                           Nothing -> pure Next
-              loop
+               in loop
             InFB {} -> abort Bail
   Just $ flip fromMaybe typed $ St $ do
     x0 <- s0
@@ -890,12 +937,8 @@ callFB cx p c = do
   d <- lookupPou (cProg cx) (fcType c)
   when (not (null (fcInOuts c))) Nothing
   (sh, Recv inst) <- receiver cx p (fcInstance c)
-  ins <- forM (fcInputs c) $ \(k, e) -> do
-    Ex v <- expr cx e
-    (o, s) <- member sh k
-    writable s (paramType d k) (ceType e)
-    f <- fitter cx p (paramType d k)
-    Just (f, o, s, Ex v)
+  EvalArgs args <- evalArgs <$> mapM (expr cx . snd) (fcInputs c)
+  Stores puts <- inputStores cx p d sh [(k, ceType e) | (k, e) <- fcInputs c]
   outs <- forM (fcOutputs c) $ \(k, r, t) -> do
     (o, s) <- member sh k
     (ts, Ref target) <- ref cx p r
@@ -910,9 +953,7 @@ callFB cx p c = do
     (Record _ fs _, Native _) -> do
       when (not (M.null temps)) Nothing
       Twin f <- twin pol (pdName d) (\k -> fst <$> M.lookup k fs)
-      Just $ Callee $ \vec base _ -> do
-        clock <- eClock <$> env
-        st (f clock vec base)
+      Just $ Callee $ \vec base _ -> M (\e -> let !clock = eClock e in saturated (f clock vec base))
     (Opaque, Native f) -> Just $ Callee $ \vec o _ -> do
       clock <- eClock <$> env
       st $ MV.read vec o >>= \case
@@ -923,15 +964,13 @@ callFB cx p c = do
       Just (Callee (\vec base t -> () <$ within (\e -> e {eSelf = vec, eBase = base, eThis = vec, eThisBase = base, eThisType = t, eDepth = eDepth e + 1}) body))
     _ -> Nothing
   Just $ St $ do
-    vs <- mapM (\(_, _, _, Ex v) -> v) ins
-    (pl, dyn) <- inst
-    forM_ (zip ins vs) $ \((Fitter f, o, s, _), v) -> f v >>= writePlace s (at pl o)
+    xs <- args
+    Found vec base dyn <- inst
+    puts vec base xs
     deeper pol p
-    case pl of
-      Slot vec base -> run vec base dyn
-      InFB {} -> abort Bail
+    run vec base dyn
     forM_ outs $ \(o, Ref target, Fitter f) -> do
-      v <- readPlace Leaf (at pl o)
+      v <- readPlace Leaf (at (Slot vec base) o)
       tpl <- target
       f v >>= writePlace Leaf tpl
     pure Next
@@ -940,6 +979,26 @@ callFB cx p c = do
 
 paramType :: PouDef -> Text -> Type
 paramType d k = maybe (TElem BOOL) viType (varByKey d k)
+
+-- | The stores of a call's inputs (by key, with their values' types) into
+-- the POU's instance or frame of this shape: each value fitted to the
+-- input's type.
+inputStores :: Cx -> Pos -> PouDef -> Shape -> [(Text, Type)] -> Maybe Stores
+inputStores cx p d sh = foldr input (Just (Stores (\_ _ _ -> pure ())))
+  where
+    input (k, from) rest = do
+      Stores more <- rest
+      (o, s) <- member sh k
+      writable s (paramType d k) from
+      Fitter f <- fitter cx p (paramType d k)
+      -- (each closure takes the environment itself, so that GHC makes one
+      -- function of it and builds nothing at each call)
+      let !(Put put) = case (o, s) of
+            (Right i, Leaf) -> Put (\vec base x -> M (\e -> unM (f x) e >>= \y -> MV.write vec (base + i) $! y))
+            _ -> Put (\vec base x -> M (\e -> unM (f x >>= writePlace s (at (Slot vec base) o)) e))
+      Just $ Stores $ \vec base xs -> M $ \e -> case xs of
+        Arg x later -> unM (put vec base x) e >> unM (more vec base later) e
+        NoArgs -> pure ()
 
 -- | A variable of an instance: at an offset of its record, or (0) in a
 -- standard FB's map.
@@ -962,9 +1021,9 @@ callFunction cx p f ins outs = do
   d <- lookupPou (cProg cx) f
   when (pdKind d /= KFunction) Nothing
   Code sh (Body' body) <- join (LM.lookup (key (pdName d)) (cPous cx))
-  exs <- mapM (expr cx . snd) ins
+  EvalArgs args <- evalArgs <$> mapM (expr cx . snd) ins
   Framed run <- framed cx p d sh (Body' body) (map (\(k, e) -> (k, ceType e)) ins) outs
-  Just (Ex (mapM (\(Ex v) -> v) exs >>= run id))
+  Just (Ex (args >>= run id))
 
 -- | A call on a fresh frame of initial values (which a runtime error inside
 -- leaves in the machine's frames), as the readable @callFunctionWith@: the
@@ -972,11 +1031,7 @@ callFunction cx p f ins outs = do
 framed :: Cx -> Pos -> PouDef -> Shape -> Body' -> [(Text, Type)] -> [(Text, CRef, Type)] -> Maybe Framed
 framed cx p d sh (Body' body) ins outs = do
   let initial = VInstance (pdName d) (M.fromList [(viKey v, viInit v) | v <- pdVars d])
-  ins' <- forM ins $ \(k, from) -> do
-    (o, s) <- member sh k
-    writable s (paramType d k) from
-    f <- fitter cx p (paramType d k)
-    Just (f, o, s)
+  Stores stores <- inputStores cx p d sh ins
   outs' <- forM outs $ \(k, r, t) -> do
     (o, s) <- member sh k
     (ts, Ref target) <- ref cx p r
@@ -990,16 +1045,14 @@ framed cx p d sh (Body' body) ins outs = do
     v <- MV.new (size sh)
     ok <- load v 0 sh initial
     if ok then Just <$> V.freeze v else pure Nothing
-  Just $ Framed $ \this vs -> do
+  Just $ Framed $ \this xs -> do
     deeper (cPol cx) p
     e <- env
     let depth = eDepth e + 1
     vec <- st (V.thaw slots)
     st (modifySTRef' (eFrames e) ((depth, sh, initial, vec) :))
     let frame = Slot vec 0
-    forM_ (zip ins' vs) $ \((Fitter f, o, s), v) -> f v >>= \x -> case (o, s) of
-      (Right i, Leaf) -> st (MV.write vec i $! x)
-      _ -> writePlace s (at frame o) x
+    stores vec 0 xs
     _ <- within (\e' -> this e' {eSelf = vec, eBase = 0, eDepth = depth}) body
     forM_ outs' $ \(o, Ref target, Fitter f) -> do
       v <- readPlace Leaf (at frame o)
@@ -1016,7 +1069,7 @@ framed cx p d sh (Body' body) ins outs = do
 callMethod :: Cx -> Pos -> Dispatch -> CRef -> [(Text, CExpr)] -> [(Text, CRef, Type)] -> Maybe Ex
 callMethod cx p d r ins outs = do
   (sh, Recv recv) <- receiver cx p r
-  exs <- mapM (expr cx . snd) ins
+  EvalArgs args <- evalArgs <$> mapM (expr cx . snd) ins
   let m = case d of
         Virtual k -> k
         Static _ k -> k
@@ -1034,9 +1087,7 @@ callMethod cx p d r ins outs = do
         owner <- declaring t
         Code sh body <- join (LM.lookup (owner, key m) (cMethods cx))
         Framed run <- framed cx p md sh body (map (\(k, e) -> (k, ceType e)) ins) outs
-        Just (Invoke (\pl dyn vs -> case pl of
-          Slot vec base -> run (\e -> e {eThis = vec, eThisBase = base, eThisType = dyn}) vs
-          InFB {} -> abort Bail))
+        Just (Invoke (\vec base dyn xs -> M (\e -> saturated (unM (run (\e' -> e' {eThis = vec, eThisBase = base, eThisType = dyn}) xs) e))))
       -- the type whose declaration holds the method (as findMethod walks)
       declaring = go (16 :: Int)
         where
@@ -1045,13 +1096,13 @@ callMethod cx p d r ins outs = do
             td <- lookupPou (cProg cx) k
             if M.member (key m) (pdMethods td) then Just (key (pdName td)) else pdBase td >>= go (i - 1)
   Just $ Ex $ do
-    (pl, dyn) <- recv
+    Found vec base dyn <- recv
     let owner = case d of
           Virtual _ -> dyn
           Static t _ -> key t
     case join (LM.lookup owner byType) of
       Nothing -> abort Bail
-      Just (Invoke run) -> mapM (\(Ex v) -> v) exs >>= run pl dyn
+      Just (Invoke run) -> args >>= run vec base dyn
 
 -- | What a pointer points at (NX-TYPE-75): the variable of the pointer's
 -- base type at its address, with the type of the variable found there.
@@ -1080,19 +1131,26 @@ receiver :: Cx -> Pos -> CRef -> Maybe (Shape, Recv)
 receiver cx p = \case
   CThis -> do
     sh <- cThis cx
-    Just (sh, Recv ((\e -> (Slot (eThis e) (eThisBase e), eThisType e)) <$> env))
+    Just (sh, Recv (M (\e -> pure $! Found (eThis e) (eThisBase e) (eThisType e))))
   CDeref e t -> do
     (sh, Target target) <- pointee cx p e t
     Just $ (sh,) $ Recv $
       target >>= \case
-        (o, TFB k) -> (\en -> (Slot (eStore en) o, k)) <$> env
+        (o, TFB t) -> M (\e -> pure $! Found (eStore e) o t)
         _ -> abort Bail
   r -> do
-    (sh, Ref pl) <- ref cx p r
-    let t = case sh of
+    (sh, w) <- whereIs cx p r
+    let !t = case sh of
           Record (Just n) _ _ -> key n
           _ -> ""
-    Just (sh, Recv ((,t) <$> pl))
+    let found vec i = pure $! Found vec i t
+    Just $ (sh,) $ Recv $ case w of
+      Fixed b o -> M (\e -> atBase b e o found)
+      Computed b c (Offset off) -> off >>= \o -> M (\e -> atBase b e (c + o) found)
+      Anywhere (Ref pl) ->
+        pl >>= \case
+          Slot vec i -> found vec i
+          InFB {} -> abort Bail
 
 -- | Where a reference lies, as the readable @refPath@: indices evaluated,
 -- then checked in turn (policy @index-out-of-range@).

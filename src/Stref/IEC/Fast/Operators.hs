@@ -23,6 +23,7 @@ module Stref.IEC.Fast.Operators
   , intCase
   , Store (..)
   , storeOn
+  , stored
   , Convert (..)
   , convertOn
   , true
@@ -44,8 +45,9 @@ import Stref.Policy
 -- | A binary operator on two values.
 data Binary = Binary !(Value -> Value -> Either Fault Value)
 
--- | A store into a target of a declared type: the value it keeps.
-data Store = Store !(Value -> Either Fault Value)
+-- | A store into a target of a declared type: the value it keeps (or any
+-- value as it is).
+data Store = Store !(Value -> Either Fault Value) | KeepsAll
 
 -- | 'binary' for operands of these types.
 binaryOn :: Policies -> BinOp -> Type -> Type -> Binary
@@ -129,14 +131,20 @@ storeOn pol t = case t of
               v -> reference v
     | isInt e -> Store reference
     -- the other elementary types store any value as it is
-    | otherwise -> Store Right
+    | otherwise -> KeepsAll
   TString {} -> Store reference
   TSubrange {} -> Store reference
   TArray {} -> Store reference
   TStruct {} -> Store reference
-  _ -> Store Right
+  _ -> KeepsAll
   where
     reference = fst . fitWhy pol t
+
+-- | The outcome of a store.
+stored :: Store -> Value -> Either Fault Value
+stored = \case
+  Store f -> f
+  KeepsAll -> Right
 
 -- | A conversion from a type to another.
 data Convert = Convert !(Value -> Either Fault Value)

@@ -233,7 +233,7 @@ int (Inst v b) o =
     _ -> pure 0
 
 setB :: Inst s -> Int -> Bool -> ST s ()
-setB (Inst v b) o !x = MV.write v (b + o) (boolValue x)
+setB (Inst v b) o x = MV.write v (b + o) $! boolValue x
 
 setI :: Inst s -> Elem -> Int -> Integer -> ST s ()
 setI (Inst v b) e o n = MV.write v (b + o) $! VInt e n
