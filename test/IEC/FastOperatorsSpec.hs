@@ -76,7 +76,7 @@ spec = describe "IEC.Fast.Operators: the fast evaluator's operators against the 
     withMaxSuccess 20000 . forAll policies $ \pol ->
       forAll types $ \t ->
         forAll (valueFor t) $ \v ->
-          counterexample (show (t, v)) (show (stored (storeOn pol t) v) === show (fst (fitWhy pol t v)))
+          counterexample (show (t, v)) (show (storing (storeOn pol t) v) === show (fst (fitWhy pol t v)))
   it "convertOn gives convert's outcome" $
     withMaxSuccess 20000 . forAll policies $ \pol ->
       forAll ((,) <$> types <*> types) $ \(from, to) ->

@@ -156,11 +156,30 @@ spec = describe "IEC.Fast: the fast evaluator gives the readable evaluator's cyc
         Just prog = checked tecomat ProgramsOfConfiguration src
     ran <- timeout 30000000 (evaluate (differences tecomat prog 10 [] [Scan []]) >>= \d -> length (show d) `seq` pure d)
     ran `shouldBe` Just (Just ([], (1, 1)))
+  -- the control paths the closures take as functions of their own (a FOR
+  -- at the end of its type, EXIT and CONTINUE in REPEAT and WHILE, a
+  -- backward JMP to a one-statement label, an FB call whose instance index
+  -- and input could both fault): the fast path runs each cycle itself and
+  -- leaves what the readable evaluator leaves
+  describe "runs loops, jumps and calls that end early as the readable evaluator does" $
+    mapM_ ending
+      [ ("a FOR that ends at its type's maximum", tecomat, ["idx : INT;", "count : DINT;"], ["FOR idx := 32760 TO 32767 DO", "  count := count + 1;", "END_FOR;"])
+      , ("CONTINUE and EXIT in REPEAT, EXIT in WHILE", nexto, ["idx : INT;", "odd : INT;"], ["idx := 0;", "REPEAT", "  idx := idx + 1;", "  IF idx MOD 2 = 0 THEN CONTINUE; END_IF;", "  odd := odd + 1;", "  IF idx > 50 THEN EXIT; END_IF;", "UNTIL idx >= 100", "END_REPEAT;", "WHILE idx > 0 DO", "  idx := idx - 7;", "  IF idx < 20 THEN EXIT; END_IF;", "END_WHILE;"])
+      , ("a backward JMP to a label", nexto, ["idx : INT;"], ["idx := 0;", "again:", "idx := idx + 1;", "IF idx < 10 THEN JMP again; END_IF;"])
+      , ("an FB call with its instance's index out of range and an input out of its subrange", tecomat, ["units : ARRAY [0..1] OF Limited;", "which : INT := 5;", "big : SINT := 100;"], ["units[which](level := big);"])
+      ]
   -- what makes the benchmarks of issue #23 fast: each cycle of theirs runs
   -- on the fast path, none handed to the readable evaluator
   describe "runs the IEC benchmarks of bench/programs on the fast path, and agrees on their first cycles" $
     mapM_ benchmark [("fbscan", tecomat), ("strings", tecomat), ("lreal", nexto), ("oop", nexto), ("pointers", nexto)]
   where
+    ending (what, pol, vars, body) = it what $ do
+      let limited = ["FUNCTION_BLOCK Limited", "VAR_INPUT", "  level : SINT(0..10);", "END_VAR", "VAR_OUTPUT", "  seen : SINT;", "END_VAR", "seen := level;", "END_FUNCTION_BLOCK"]
+          src = T.unlines (limited ++ ["PROGRAM MAIN", "VAR"] ++ vars ++ ["END_VAR"] ++ body ++ ["END_PROGRAM"])
+          Just prog = checked pol ProgramsOfConfiguration src
+      differences pol prog 10 [] (replicate 2 (Scan [])) `shouldSatisfy` \case
+        Just ([], (ran, total)) -> ran == total && total >= 1
+        _ -> False
     benchmark (name, pol) = it name $ do
       src <- TIO.readFile ("bench/programs/" <> name <> ".st")
       let Just prog = checked pol ProgramsOfConfiguration src

@@ -59,7 +59,7 @@ module Stref.IEC.Fast
 
 import Control.Monad (forM, forM_, join, when)
 import Control.Exception (Exception, throwIO, try)
-import Control.Monad.ST (ST, runST)
+import Control.Monad.ST (runST)
 import Control.Monad.ST.Unsafe (unsafeIOToST, unsafeSTToIO)
 import GHC.Exts (Int (I#))
 import GHC.ST (ST (..))
@@ -80,7 +80,7 @@ import qualified Data.Vector.Unboxed.Mutable as MU
 import Stref.IEC.Checked
 import Stref.IEC.Conversions (truncTo)
 import Stref.IEC.Eval
-import Stref.IEC.Fast.Operators (Binary (..), Convert (..), IntCase (..), Store (..), binaryOn, boolValue, convertOn, intCase, storeOn, stored)
+import Stref.IEC.Fast.Operators (Binary (..), Convert (..), IntCase (..), Store (..), binaryOn, boolValue, convertOn, intCase, storeOn, storing)
 import Stref.IEC.Fast.StandardFB (Twin (..), twin, twinNames)
 import Stref.IEC.Memory (Layout, areaAt, locate, offsetOf, sizeInBytes)
 import Stref.IEC.Operators (binary, rangeUnder, strip, unary, wrapUnder)
@@ -261,8 +261,8 @@ saturated (ST m) = ST (\s -> m s)
 env :: M s (Env s)
 env = M pure
 
--- | The closures under another environment (built before they run: a
--- lazy one would be a thunk at every call).
+-- | The closures under another environment (the environment built before
+-- they run: a lazy one would be a thunk at every call).
 within :: (Env s -> Env s) -> M s a -> M s a
 within f (M m) = M (\e -> let !e' = f e in saturated (m e'))
 
@@ -297,7 +297,7 @@ deeper pol p = M $ \e ->
 -- | A store into a target of a declared type (the readable @fitValue@
 -- without check functions, which the slice leaves out).
 fit :: Store -> Pos -> Value -> M s Value
-fit store p v = case stored store v of
+fit store p v = case storing store v of
   Right x -> x `seq` pure x
   Left f -> abort (Faulted p f)
 
@@ -948,12 +948,13 @@ callFB cx p c = do
   -- a native FB's VAR_TEMP (none of the standard ones has any)
   let temps = M.fromList [(viKey v, viInit v) | v <- pdVars d, viSection v == SecTemp]
   Callee run <- case (sh, pdBody d) of
-    -- the standard FB's meaning on the instance's variables
     -- the twin of the standard FB's meaning, on its slots
     (Record _ fs _, Native _) -> do
       when (not (M.null temps)) Nothing
       Twin f <- twin pol (pdName d) (\k -> fst <$> M.lookup k fs)
+      -- (the clock taken here, not selected from the environment by a thunk)
       Just $ Callee $ \vec base _ -> M (\e -> let !clock = eClock e in saturated (f clock vec base))
+    -- the standard FB's meaning on the instance's variables
     (Opaque, Native f) -> Just $ Callee $ \vec o _ -> do
       clock <- eClock <$> env
       st $ MV.read vec o >>= \case
@@ -1048,7 +1049,7 @@ framed cx p d sh (Body' body) ins outs = do
   Just $ Framed $ \this xs -> do
     deeper (cPol cx) p
     e <- env
-    let depth = eDepth e + 1
+    let !depth = eDepth e + 1
     vec <- st (V.thaw slots)
     st (modifySTRef' (eFrames e) ((depth, sh, initial, vec) :))
     let frame = Slot vec 0
@@ -1136,7 +1137,7 @@ receiver cx p = \case
     (sh, Target target) <- pointee cx p e t
     Just $ (sh,) $ Recv $
       target >>= \case
-        (o, TFB t) -> M (\e -> pure $! Found (eStore e) o t)
+        (o, TFB ty) -> M (\en -> pure $! Found (eStore en) o ty)
         _ -> abort Bail
   r -> do
     (sh, w) <- whereIs cx p r

@@ -23,7 +23,7 @@ module Stref.IEC.Fast.Operators
   , intCase
   , Store (..)
   , storeOn
-  , stored
+  , storing
   , Convert (..)
   , convertOn
   , true
@@ -141,8 +141,8 @@ storeOn pol t = case t of
     reference = fst . fitWhy pol t
 
 -- | The outcome of a store.
-stored :: Store -> Value -> Either Fault Value
-stored = \case
+storing :: Store -> Value -> Either Fault Value
+storing = \case
   Store f -> f
   KeepsAll -> Right
 

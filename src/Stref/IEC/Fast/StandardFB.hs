@@ -1,5 +1,4 @@
 {-# OPTIONS_GHC -O2 #-}
-{-# LANGUAGE BangPatterns #-}
 {-# LANGUAGE RankNTypes #-}
 
 -- | The standard function blocks of "Stref.IEC.StandardFB" on the fast
